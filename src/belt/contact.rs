@@ -1,0 +1,75 @@
+//! Belt-pulley penalty contact, eq. 4-11.
+
+/// Smoothstep of eq. 10-11 on [0, 1]: 0 below, x^2 (3 - 2x) inside, 1 above.
+#[inline(always)]
+pub fn smoothstep(x: f64) -> f64 {
+    let x = x.clamp(0.0, 1.0);
+    x * x * (3.0 - 2.0 * x)
+}
+
+/// Penalty law of one body (constants already multiplied by the body length).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactLaw {
+    /// Quadratic stiffness [N/m^2].
+    pub c1: f64,
+    /// Linear stiffness [N/m].
+    pub c2: f64,
+    /// Damping [N s/m].
+    pub b: f64,
+    /// 1 / p_max [1/m].
+    pub inv_p_max: f64,
+}
+
+impl ContactLaw {
+    /// Normal force for penetration `p` > 0 and penetration rate `p_dot`
+    /// (eq. 9), never negative (the belt cannot pull on the pulley), and its
+    /// elastic part.
+    #[inline(always)]
+    pub fn normal_force(&self, p: f64, p_dot: f64) -> (f64, f64) {
+        let elastic = (self.c1 * p + self.c2) * p;
+        let n = elastic + smoothstep(p * self.inv_p_max) * self.b * p_dot;
+        (n.max(0.0), elastic)
+    }
+
+    /// Elastic energy stored at penetration `p` (the integral of the elastic part).
+    pub fn energy(&self, p: f64) -> f64 {
+        if p <= 0.0 {
+            0.0
+        } else {
+            p * p * (self.c1 * p / 3.0 + 0.5 * self.c2)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn smoothstep_ends_and_midpoint() {
+        assert_eq!(smoothstep(-1.0), 0.0);
+        assert_eq!(smoothstep(0.0), 0.0);
+        assert_eq!(smoothstep(0.5), 0.5);
+        assert_eq!(smoothstep(1.0), 1.0);
+        assert_eq!(smoothstep(3.0), 1.0);
+    }
+
+    #[test]
+    fn normal_force_is_elastic_at_rest_and_never_pulls() {
+        let law = ContactLaw {
+            c1: 3.0e9,
+            c2: 6.5e5,
+            b: 300.0,
+            inv_p_max: 1e3,
+        };
+        let p = 1e-4;
+        let (n, e) = law.normal_force(p, 0.0);
+        assert_eq!(n, e);
+        assert!((e - (3.0e9 * p * p + 6.5e5 * p)).abs() < 1e-9);
+        // Fast separation: damping would pull; the force is clamped at 0.
+        assert_eq!(law.normal_force(p, -10.0).0, 0.0);
+        // Energy is the integral of the elastic force (Simpson, exact for cubics).
+        let (f0, fm, f1) = (0.0, law.normal_force(p / 2.0, 0.0).1, e);
+        assert!((law.energy(p) - p / 6.0 * (f0 + 4.0 * fm + f1)).abs() < 1e-15);
+    }
+}

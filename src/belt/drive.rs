@@ -1,0 +1,271 @@
+//! A simulated belt drive: parameters, mounted layout, state, integrator.
+//! This is the whole interface the FMI adapter uses.
+
+use super::layout::Layout;
+use super::model::{BeltSystem, Inputs, NoRecord, Recorder, BODY_DOF};
+use super::params::{DriveParams, ParamError, MAX_PULLEYS};
+use super::rkf45::{OdeSystem, Rkf45, Stats, StepFailure};
+
+impl OdeSystem for BeltSystem {
+    fn dim(&self) -> usize {
+        BeltSystem::dim(self)
+    }
+    #[inline]
+    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
+        BeltSystem::rhs(self, t, y, dy, &mut NoRecord);
+    }
+    fn after_step(&self, y: &mut [f64]) {
+        BeltSystem::after_step(self, y);
+    }
+}
+
+/// Per-pulley outputs.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PulleyOutputs {
+    pub angle: f64,
+    pub omega: f64,
+    pub alpha: f64,
+    /// Torque the belt exerts on the pulley [N m].
+    pub belt_torque: f64,
+    /// Torque a speed drive supplies (0 for torque-driven pulleys) [N m].
+    pub drive_torque: f64,
+    /// Force of the belt on the hub [N].
+    pub hub_force: [f64; 2],
+    /// 1 - v_j / v_1: surface speed loss relative to pulley 1.
+    pub slip: f64,
+    pub wrap_angle: f64,
+}
+
+/// Forces on the probe body from each pulley (Figs. 16-18).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ProbeOutputs {
+    /// Force in the translational SDE at the probe body's left end (Fig. 15).
+    pub sde_force: f64,
+    pub position: [f64; 2],
+    pub normal_force: [f64; MAX_PULLEYS],
+    pub friction_force: [f64; MAX_PULLEYS],
+    pub slip_velocity: [f64; MAX_PULLEYS],
+}
+
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Outputs {
+    pub pulleys: [PulleyOutputs; MAX_PULLEYS],
+    /// Tension of the middle SDE of the free span from pulley k to k+1.
+    pub span_tension: [f64; MAX_PULLEYS],
+    pub min_tension: f64,
+    pub max_tension: f64,
+    pub probe: ProbeOutputs,
+    pub power_dissipated: f64,
+    pub energy_dissipated: f64,
+    pub energy_input: f64,
+    pub kinetic_energy: f64,
+    pub potential_energy: f64,
+}
+
+/// Collects the outputs during one recorded force evaluation.
+struct OutputRecorder<'a> {
+    out: &'a mut Outputs,
+    tensions: &'a mut [f64],
+    probe: usize,
+    span_mid: [[f64; 2]; MAX_PULLEYS],
+    n_spans: usize,
+    span_best: [f64; MAX_PULLEYS],
+}
+
+impl Recorder for OutputRecorder<'_> {
+    const ACTIVE: bool = true;
+    fn sde(&mut self, k: usize, tension: f64, mid: [f64; 2]) {
+        self.tensions[k] = tension;
+        if k == self.probe {
+            self.out.probe.sde_force = tension;
+        }
+        for s in 0..self.n_spans {
+            let d = (mid[0] - self.span_mid[s][0]).hypot(mid[1] - self.span_mid[s][1]);
+            if d < self.span_best[s] {
+                self.span_best[s] = d;
+                self.out.span_tension[s] = tension;
+            }
+        }
+    }
+    fn contact(&mut self, body: usize, pulley: usize, n: f64, f: f64, v_t: f64, _p: f64) {
+        if body == self.probe {
+            self.out.probe.normal_force[pulley] = n;
+            self.out.probe.friction_force[pulley] = f;
+            self.out.probe.slip_velocity[pulley] = v_t;
+        }
+    }
+    fn hub_force(&mut self, pulley: usize, fx: f64, fy: f64) {
+        self.out.pulleys[pulley].hub_force[0] += fx;
+        self.out.pulleys[pulley].hub_force[1] += fy;
+    }
+    fn pulley(&mut self, j: usize, belt_torque: f64, drive_torque: f64, alpha: f64) {
+        let p = &mut self.out.pulleys[j];
+        p.belt_torque = belt_torque;
+        p.drive_torque = drive_torque;
+        p.alpha = alpha;
+    }
+    fn power(&mut self, _input: f64, dissipated: f64) {
+        self.out.power_dissipated = dissipated;
+    }
+}
+
+/// A belt drive ready to run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Drive {
+    params: DriveParams,
+    layout: Layout,
+    sys: BeltSystem,
+    t: f64,
+    y: Vec<f64>,
+    integrator: Rkf45,
+    /// Scratch for recorded evaluations (outputs only).
+    dy: Vec<f64>,
+    tensions: Vec<f64>,
+}
+
+impl Drive {
+    /// Validates `params`, lays out the belt and mounts it at time `t0`.
+    pub fn new(params: &DriveParams, t0: f64) -> Result<Self, ParamError> {
+        params.validate()?;
+        let layout = Layout::new(params)?;
+        let sys = BeltSystem::new(params, &layout);
+        let dim = sys.dim();
+        let mut y = vec![0.0; dim];
+        for (i, b) in layout.bodies.iter().enumerate() {
+            let o = BODY_DOF * i;
+            y[o] = b.x;
+            y[o + 1] = b.y;
+            y[o + 2] = b.phi;
+        }
+        let s = &params.solver;
+        let integrator = Rkf45::new(dim, s.rel_tol, s.abs_tol, s.initial_step, s.max_steps);
+        let mut drive = Self {
+            params: params.clone(),
+            layout,
+            sys,
+            t: t0,
+            y,
+            integrator,
+            dy: vec![0.0; dim],
+            tensions: vec![0.0; params.belt.n_bodies],
+        };
+        drive.set_inputs(Inputs {
+            t0,
+            ..Inputs::default()
+        });
+        Ok(drive)
+    }
+
+    pub fn params(&self) -> &DriveParams {
+        &self.params
+    }
+    pub fn layout(&self) -> &Layout {
+        &self.layout
+    }
+    pub fn system(&self) -> &BeltSystem {
+        &self.sys
+    }
+    pub fn time(&self) -> f64 {
+        self.t
+    }
+    pub fn state(&self) -> &[f64] {
+        &self.y
+    }
+    pub fn stats(&self) -> Stats {
+        self.integrator.stats
+    }
+    pub fn inputs(&self) -> &Inputs {
+        &self.sys.inputs
+    }
+
+    /// Sets the inputs held from now on (`inputs.t0` is set to the current
+    /// time). A speed-driven pulley's speed jumps to its new prescription.
+    pub fn set_inputs(&mut self, mut inputs: Inputs) {
+        inputs.t0 = self.t;
+        self.sys.inputs = inputs;
+        for j in 0..self.sys.np {
+            if self.sys.pulleys[j].speed_driven {
+                let o = self.sys.pulley_offset(j);
+                self.y[o + 1] = self.sys.prescribed_speed(j, self.t).0;
+            }
+        }
+    }
+
+    /// Integrates to exactly `t_end`. On failure the drive stays at its
+    /// last good state (the time and state of the call).
+    pub fn advance(&mut self, t_end: f64) -> Result<(), StepFailure> {
+        self.integrator
+            .advance(&self.sys, &mut self.t, &mut self.y, t_end)
+    }
+
+    /// All outputs at the current state.
+    pub fn outputs(&mut self) -> Outputs {
+        let mut out = Outputs::default();
+        let np = self.sys.np;
+        let mut span_mid = [[0.0; 2]; MAX_PULLEYS];
+        for (k, mid) in span_mid.iter_mut().enumerate().take(np) {
+            if let Some(s) = self.layout.span_between(k, (k + 1) % np) {
+                *mid = s.midpoint();
+            }
+        }
+        {
+            let mut rec = OutputRecorder {
+                out: &mut out,
+                tensions: &mut self.tensions,
+                probe: self.params.probe_body,
+                span_mid,
+                n_spans: np,
+                span_best: [f64::INFINITY; MAX_PULLEYS],
+            };
+            self.sys.rhs(self.t, &self.y, &mut self.dy, &mut rec);
+        }
+        out.min_tension = self.tensions.iter().copied().fold(f64::INFINITY, f64::min);
+        out.max_tension = self
+            .tensions
+            .iter()
+            .copied()
+            .fold(f64::NEG_INFINITY, f64::max);
+        let p = self.params.probe_body;
+        out.probe.position = [self.y[BODY_DOF * p], self.y[BODY_DOF * p + 1]];
+        let surface = |j: usize| {
+            let w = self.sys.pulley_speed(j, self.t, &self.y);
+            let side = self.layout.wrap_of(j).map_or(1.0, |w| w.side);
+            side * w * self.sys.pulleys[j].radius
+        };
+        let v1 = surface(0);
+        for j in 0..np {
+            let o = self.sys.pulley_offset(j);
+            let po = &mut out.pulleys[j];
+            po.angle = self.y[o];
+            po.omega = self.sys.pulley_speed(j, self.t, &self.y);
+            po.slip = if v1 != 0.0 { 1.0 - surface(j) / v1 } else { 0.0 };
+            po.wrap_angle = self.layout.wrap_of(j).map_or(0.0, |w| w.angle);
+        }
+        let e = self.sys.energy_offset();
+        out.energy_input = self.y[e];
+        out.energy_dissipated = self.y[e + 1];
+        let (kin, pot) = self.sys.energies(&self.y);
+        out.kinetic_energy = kin;
+        out.potential_energy = pot;
+        out
+    }
+
+    /// Replaces time, state, inputs and integrator data (restoring a
+    /// snapshot of the same parameters).
+    pub fn restore(&mut self, t: f64, y: &[f64], inputs: Inputs, h: f64, stats: Stats) -> bool {
+        if y.len() != self.y.len() {
+            return false;
+        }
+        self.t = t;
+        self.y.copy_from_slice(y);
+        self.sys.inputs = inputs;
+        self.integrator.h = h;
+        self.integrator.stats = stats;
+        true
+    }
+
+    /// Step size the integrator will try next.
+    pub fn next_step_size(&self) -> f64 {
+        self.integrator.h
+    }
+}

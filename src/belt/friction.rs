@@ -1,0 +1,144 @@
+//! Belt-pulley friction, section 2.2: the paper's law (eq. 12-19) and the
+//! elastic-plastic creep law of its ref. [11], both driven by the creep
+//! displacement `z` of each body, integrated as a state (dz/dt = v_T).
+//!
+//! Both laws use the paper's transition curve of eq. 10 (Fig. 4). "Half of
+//! this course" is read as the upper half of the odd S-curve that the
+//! smoothstep makes on [-1, 1]: S(u) = (3u - u^3)/2, S(0) = 0, S'(0) = 3/2,
+//! S(1) = 1, S'(1) = 0 (docs/model.md, "Friction").
+
+use super::contact::smoothstep;
+use super::params::FrictionLaw;
+
+/// Odd S-curve: the upper half of eq. 10's course stretched over [-1, 1].
+#[inline(always)]
+pub fn s_curve(u: f64) -> f64 {
+    let u = u.clamp(-1.0, 1.0);
+    0.5 * u * (3.0 - u * u)
+}
+
+/// Friction law with its constants.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Friction {
+    pub law: FrictionLaw,
+    /// 1 / dv [s/m] (kubas2014).
+    pub inv_dv: f64,
+    /// Creep displacement of full static friction, Delta_max [m].
+    pub creep_max: f64,
+    pub inv_creep_max: f64,
+}
+
+/// Creep displacement at which the creep law slides at mu_k (1.5 Delta_max:
+/// the static-to-kinetic transition spans Delta_max..1.5 Delta_max, as the
+/// paper's spans dv..1.5 dv).
+const SLIDE_AT: f64 = 1.5;
+
+impl Friction {
+    pub fn new(law: FrictionLaw, dv: f64, creep_max: f64) -> Self {
+        Self {
+            law,
+            inv_dv: 1.0 / dv,
+            creep_max,
+            inv_creep_max: 1.0 / creep_max,
+        }
+    }
+
+    /// Largest |z| the creep state takes.
+    #[inline(always)]
+    pub fn creep_cap(&self) -> f64 {
+        match self.law {
+            FrictionLaw::Kubas2014 => self.creep_max,
+            FrictionLaw::Creep => SLIDE_AT * self.creep_max,
+        }
+    }
+
+    /// Signed friction coefficient along the pulley's tangent for relative
+    /// velocity `v_t` (pulley surface minus body, eq. 18) and creep `z`.
+    #[inline(always)]
+    pub fn coefficient(&self, v_t: f64, z: f64, mu_s: f64, mu_k: f64) -> f64 {
+        match self.law {
+            FrictionLaw::Creep => {
+                let u = z * self.inv_creep_max;
+                let a = u.abs();
+                if a <= 1.0 {
+                    mu_s * s_curve(u)
+                } else {
+                    let mu = mu_s + (mu_k - mu_s) * smoothstep((a - 1.0) * 2.0);
+                    mu.copysign(u)
+                }
+            }
+            FrictionLaw::Kubas2014 => {
+                let w = v_t.abs() * self.inv_dv;
+                if w < 1.0 {
+                    // eq. 13: mu = (1 - beta) mu1(Delta) + beta mu_s
+                    let beta = s_curve(w);
+                    let mu1 = mu_s * s_curve(z * self.inv_creep_max);
+                    (1.0 - beta) * mu1 + (beta * mu_s).copysign(v_t)
+                } else {
+                    // Fig. 6c: mu_s -> mu_k over dv..1.5 dv, then mu_k.
+                    let mu = mu_s + (mu_k - mu_s) * smoothstep((w - 1.0) * 2.0);
+                    mu.copysign(v_t)
+                }
+            }
+        }
+    }
+
+    /// dz/dt: the creep displacement follows the relative velocity until it
+    /// reaches its cap, where it holds while the motion keeps pushing outward.
+    #[inline(always)]
+    pub fn creep_rate(&self, v_t: f64, z: f64) -> f64 {
+        if z.abs() >= self.creep_cap() && v_t * z > 0.0 {
+            0.0
+        } else {
+            v_t
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn s_curve_shape() {
+        assert_eq!(s_curve(0.0), 0.0);
+        assert_eq!(s_curve(1.0), 1.0);
+        assert_eq!(s_curve(-1.0), -1.0);
+        assert_eq!(s_curve(2.0), 1.0);
+        // slope 3/2 at the origin, 0 at the ends
+        let h = 1e-6;
+        assert!(((s_curve(h) - s_curve(-h)) / (2.0 * h) - 1.5).abs() < 1e-9);
+        assert!((s_curve(1.0) - s_curve(1.0 - h)).abs() < 1e-11);
+    }
+
+    #[test]
+    fn creep_law_elastic_then_kinetic() {
+        let f = Friction::new(FrictionLaw::Creep, 1e-5, 1e-4);
+        let (ms, mk) = (1.05, 1.0);
+        assert_eq!(f.coefficient(0.3, 0.0, ms, mk), 0.0);
+        assert!((f.coefficient(0.3, 1e-4, ms, mk) - ms).abs() < 1e-12);
+        assert!((f.coefficient(0.3, -1.5e-4, ms, mk) + mk).abs() < 1e-12);
+        assert!((f.coefficient(0.3, 1e-3, ms, mk) - mk).abs() < 1e-12);
+        // independent of velocity
+        assert_eq!(f.coefficient(1e-9, 5e-5, ms, mk), f.coefficient(10.0, 5e-5, ms, mk));
+        // creep holds at its cap while pushed outward, unloads freely
+        assert_eq!(f.creep_rate(0.1, 1.5e-4), 0.0);
+        assert_eq!(f.creep_rate(-0.1, 1.5e-4), -0.1);
+        assert_eq!(f.creep_rate(0.1, 1e-4), 0.1);
+    }
+
+    #[test]
+    fn kubas_law_regularised_coulomb() {
+        let f = Friction::new(FrictionLaw::Kubas2014, 1e-5, 1e-4);
+        let (ms, mk) = (1.05, 1.0);
+        assert!((f.coefficient(1e-5, 0.0, ms, mk) - ms).abs() < 1e-12);
+        assert!((f.coefficient(-2e-5, 0.0, ms, mk) + mk).abs() < 1e-12);
+        assert_eq!(f.coefficient(0.0, 0.0, ms, mk), 0.0);
+        // at v = 0 the creep term alone acts (mu1 of eq. 13)
+        assert!((f.coefficient(0.0, 1e-4, ms, mk) - ms).abs() < 1e-12);
+        // continuous at dv
+        let a = f.coefficient(1e-5 * (1.0 - 1e-9), 0.0, ms, mk);
+        let b = f.coefficient(1e-5 * (1.0 + 1e-9), 0.0, ms, mk);
+        assert!((a - b).abs() < 1e-6);
+    }
+}

@@ -1,0 +1,552 @@
+//! Belt path and initial assembly (the drive "as mounted").
+//!
+//! From pulley centres, radii and wrap sides: the common tangents (free
+//! spans) and wrap arcs of the belt path, the body length that gives the
+//! requested preload, and the bodies placed along the path in static
+//! equilibrium (pitch stretched by the preload on spans and arcs, centres
+//! pressed into the pulleys by the equilibrium penetration).
+//!
+//! The path is traversed counterclockwise around the loop. A pulley inside
+//! the loop is wrapped counterclockwise (side s = +1), a back-side idler
+//! clockwise (s = -1). A belt point on pulley j with travel direction t is
+//! `c_j - s_j r_j n(t)`, n(t) the left normal of t.
+
+use super::params::{param_error, DriveParams, ParamError};
+use std::f64::consts::TAU;
+
+/// A free span: the common tangent from one pulley to the next.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Span {
+    /// Pulley (index into `DriveParams::pulleys`) the span leaves and reaches.
+    pub from: usize,
+    pub to: usize,
+    pub start: [f64; 2],
+    pub end: [f64; 2],
+    /// Direction angle of travel (loop order) [rad].
+    pub angle: f64,
+    pub length: f64,
+}
+
+impl Span {
+    pub fn midpoint(&self) -> [f64; 2] {
+        [
+            0.5 * (self.start[0] + self.end[0]),
+            0.5 * (self.start[1] + self.end[1]),
+        ]
+    }
+}
+
+/// The wrap of the belt on one pulley.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Wrap {
+    pub pulley: usize,
+    /// +1 inside the loop (counterclockwise wrap), -1 back-side idler.
+    pub side: f64,
+    /// Wrap angle [rad].
+    pub angle: f64,
+    /// Travel direction angle where the belt arrives on the pulley [rad].
+    pub arrive: f64,
+    /// Equilibrium penetration of a body under the preload [m].
+    pub penetration: f64,
+    /// Angle between neighbouring body centres on the arc [rad].
+    pub pitch_angle: f64,
+}
+
+/// Initial pose of one body.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BodyPose {
+    pub x: f64,
+    pub y: f64,
+    /// Orientation, continuous along the loop (grows by 2*pi once around).
+    pub phi: f64,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Layout {
+    /// Spans in loop order; `spans[m]` leaves `wraps[m].pulley`... see `span_of_pair`.
+    pub spans: Vec<Span>,
+    /// Wraps in loop order: wraps[m] is the arc at the end of spans[m].
+    pub wraps: Vec<Wrap>,
+    /// Natural (unstretched) body length [m].
+    pub body_length: f64,
+    /// Length of the belt path through the contact line [m].
+    pub path_length: f64,
+    pub bodies: Vec<BodyPose>,
+}
+
+fn left_normal(a: f64) -> [f64; 2] {
+    [-a.sin(), a.cos()]
+}
+
+/// Positive root of c1 p^2 + c2 p = n (the equilibrium penetration, eq. 9).
+pub fn penetration_for_force(c1: f64, c2: f64, n: f64) -> f64 {
+    if n <= 0.0 {
+        0.0
+    } else if c1 == 0.0 {
+        n / c2
+    } else {
+        // Stable form of (-c2 + sqrt(c2^2 + 4 c1 n)) / (2 c1).
+        2.0 * n / (c2 + (c2 * c2 + 4.0 * c1 * n).sqrt())
+    }
+}
+
+fn dist_point_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let ab = [b[0] - a[0], b[1] - a[1]];
+    let ap = [p[0] - a[0], p[1] - a[1]];
+    let len2 = ab[0] * ab[0] + ab[1] * ab[1];
+    let s = if len2 > 0.0 {
+        ((ap[0] * ab[0] + ap[1] * ab[1]) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (ap[0] - s * ab[0]).hypot(ap[1] - s * ab[1])
+}
+
+fn segments_cross(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
+    let orient = |p: [f64; 2], q: [f64; 2], r: [f64; 2]| {
+        (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])
+    };
+    let (o1, o2) = (orient(a, b, c), orient(a, b, d));
+    let (o3, o4) = (orient(c, d, a), orient(c, d, b));
+    o1 * o2 < 0.0 && o3 * o4 < 0.0
+}
+
+/// Spans and wrap angles for pulleys visited in `order`; `None` if the
+/// visiting order does not give a simple counterclockwise loop.
+fn path_for_order(
+    params: &DriveParams,
+    radii: &[f64],
+    order: &[usize],
+) -> Result<Option<(Vec<Span>, Vec<Wrap>)>, ParamError> {
+    let np = order.len();
+    let side = |j: usize| if params.pulleys[j].back_side { -1.0 } else { 1.0 };
+    let mut spans = Vec::with_capacity(np);
+    for m in 0..np {
+        let (a, b) = (order[m], order[(m + 1) % np]);
+        let (pa, pb) = (&params.pulleys[a], &params.pulleys[b]);
+        let (ra, rb) = (radii[a], radii[b]);
+        let d = [pb.x - pa.x, pb.y - pa.y];
+        let dist = d[0].hypot(d[1]);
+        let k = side(b) * rb - side(a) * ra;
+        if k.abs() >= dist {
+            return Err(param_error(
+                format!("pulley[{}].backSide", b + 1),
+                format!(
+                    "no common tangent from pulley[{}] to pulley[{}]: the belt path cannot be \
+                     wrapped with these wrap sides (centre distance {dist:.4} m must exceed {:.4} m)",
+                    a + 1,
+                    b + 1,
+                    k.abs()
+                ),
+            ));
+        }
+        let angle = d[1].atan2(d[0]) - (k / dist).asin();
+        let n = left_normal(angle);
+        let start = [pa.x - side(a) * ra * n[0], pa.y - side(a) * ra * n[1]];
+        let end = [pb.x - side(b) * rb * n[0], pb.y - side(b) * rb * n[1]];
+        spans.push(Span {
+            from: a,
+            to: b,
+            start,
+            end,
+            angle,
+            length: (dist * dist - k * k).sqrt(),
+        });
+    }
+    let mut wraps = Vec::with_capacity(np);
+    let mut turning = 0.0;
+    for m in 0..np {
+        let j = spans[m].to;
+        let s = side(j);
+        let angle = (s * (spans[(m + 1) % np].angle - spans[m].angle)).rem_euclid(TAU);
+        turning += s * angle;
+        wraps.push(Wrap {
+            pulley: j,
+            side: s,
+            angle,
+            arrive: spans[m].angle,
+            penetration: 0.0,
+            pitch_angle: 0.0,
+        });
+    }
+    // A simple loop traversed counterclockwise turns by exactly +2*pi.
+    if (turning - TAU).abs() > 1e-6 {
+        return Ok(None);
+    }
+    Ok(Some((spans, wraps)))
+}
+
+/// Spans and wraps for the pulleys in their listed belt order, taken
+/// either way round the loop.
+fn path_in_belt_order(params: &DriveParams, radii: &[f64]) -> Result<(Vec<Span>, Vec<Wrap>), ParamError> {
+    let np = params.pulleys.len();
+    let forward: Vec<usize> = (0..np).collect();
+    let backward: Vec<usize> = (0..np).rev().collect();
+    let (spans, wraps) = match path_for_order(params, radii, &forward)? {
+        Some(p) => p,
+        None => path_for_order(params, radii, &backward)?.ok_or_else(|| {
+            param_error(
+                "pulley[1].backSide",
+                "the pulleys, in the listed order and wrap sides, do not form a simple closed \
+                 belt loop (check the order and which pulleys are back-side idlers)",
+            )
+        })?,
+    };
+    for w in &wraps {
+        if w.angle < 1e-3 {
+            return Err(param_error(
+                format!("pulley[{}].backSide", w.pulley + 1),
+                format!(
+                    "the belt does not wrap pulley[{}] (wrap angle {:.2e} rad)",
+                    w.pulley + 1,
+                    w.angle
+                ),
+            ));
+        }
+    }
+    Ok((spans, wraps))
+}
+
+/// Spans must not run through other pulleys or cross each other.
+fn check_spans(params: &DriveParams, spans: &[Span]) -> Result<(), ParamError> {
+    for (m, s) in spans.iter().enumerate() {
+        for (j, p) in params.pulleys.iter().enumerate() {
+            if j != s.from && j != s.to && dist_point_segment([p.x, p.y], s.start, s.end) < p.radius {
+                return Err(param_error(
+                    format!("pulley[{}].x", j + 1),
+                    format!(
+                        "the span from pulley[{}] to pulley[{}] runs through pulley[{}]",
+                        s.from + 1,
+                        s.to + 1,
+                        j + 1
+                    ),
+                ));
+            }
+        }
+        for q in spans.iter().skip(m + 2) {
+            if q.to != s.from && segments_cross(s.start, s.end, q.start, q.end) {
+                return Err(param_error(
+                    format!("pulley[{}].x", q.from + 1),
+                    format!(
+                        "the spans pulley[{}]->pulley[{}] and pulley[{}]->pulley[{}] cross",
+                        s.from + 1,
+                        s.to + 1,
+                        q.from + 1,
+                        q.to + 1
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+impl Layout {
+    /// Builds the belt path and the mounted belt. `params` must have passed
+    /// [`DriveParams::validate`].
+    pub fn new(params: &DriveParams) -> Result<Self, ParamError> {
+        let np = params.pulleys.len();
+        for a in 0..np {
+            for b in a + 1..np {
+                let (pa, pb) = (&params.pulleys[a], &params.pulleys[b]);
+                let dist = (pb.x - pa.x).hypot(pb.y - pa.y);
+                if dist <= pa.radius + pb.radius {
+                    return Err(param_error(
+                        format!("pulley[{}].x", b + 1),
+                        format!(
+                            "pulley[{}] overlaps pulley[{}]: centre distance {dist:.4} m must \
+                             exceed the sum of radii {:.4} m",
+                            b + 1,
+                            a + 1,
+                            pa.radius + pb.radius
+                        ),
+                    ));
+                }
+            }
+        }
+        // The path of the body centres runs around circles shrunk by the
+        // equilibrium penetration (so spans and arcs meet without a step);
+        // that penetration depends on the body length: iterate.
+        let mut radii: Vec<f64> = params.pulleys.iter().map(|p| p.radius).collect();
+        let mut result = None;
+        for _ in 0..4 {
+            let (spans, mut wraps) = path_in_belt_order(params, &radii)?;
+            let path_length: f64 = spans.iter().map(|s| s.length).sum::<f64>()
+                + wraps.iter().map(|w| w.angle * radii[w.pulley]).sum::<f64>();
+            let body_length = solve_body_length(params, &spans, &mut wraps, path_length)?;
+            for w in &wraps {
+                radii[w.pulley] = params.pulleys[w.pulley].radius - w.penetration;
+            }
+            result = Some((spans, wraps, path_length, body_length));
+        }
+        let (spans, wraps, path_length, body_length) = result.expect("at least one iteration");
+        check_spans(params, &spans)?;
+
+        // Every wrap must be resolved by a few bodies and no body may span
+        // a large part of a pulley.
+        for w in &wraps {
+            let per_arc = w.angle / w.pitch_angle;
+            let need = (3.0 * w.pitch_angle / w.angle).max(w.pitch_angle / 0.5);
+            if per_arc < 3.0 || w.pitch_angle > 0.5 {
+                let n = params.belt.n_bodies;
+                return Err(param_error(
+                    "belt.nBodies",
+                    format!(
+                        "{n} bodies put {per_arc:.1} bodies on the {:.0} deg wrap of pulley[{}] \
+                         (body pitch {:.0} deg of arc); at least 3 per wrap and at most 29 deg each \
+                         are needed: use belt.nBodies >= {}",
+                        w.angle.to_degrees(),
+                        w.pulley + 1,
+                        w.pitch_angle.to_degrees(),
+                        (n as f64 * need).ceil() as usize
+                    ),
+                ));
+            }
+        }
+        // End points run on circles of radius sqrt(rho^2 + l^2/4) around the
+        // pulleys, so body centres sit at the equilibrium radius rho = r - p0.
+        let end_path = |l: f64| {
+            let mut radii_e = vec![0.0; params.pulleys.len()];
+            for w in &wraps {
+                let rho = params.pulleys[w.pulley].radius - w.penetration;
+                radii_e[w.pulley] = (rho * rho + 0.25 * l * l).sqrt();
+            }
+            let (spans_e, wraps_e) = path_in_belt_order(params, &radii_e)?;
+            Ok((spans_e, wraps_e, radii_e))
+        };
+        let (body_length, bodies) = place_bodies(params, end_path, body_length)?;
+        Ok(Self {
+            spans,
+            wraps,
+            body_length,
+            path_length,
+            bodies,
+        })
+    }
+
+    /// The span that joins pulleys `a` and `b` (either direction).
+    pub fn span_between(&self, a: usize, b: usize) -> Option<&Span> {
+        self.spans
+            .iter()
+            .find(|s| (s.from == a && s.to == b) || (s.from == b && s.to == a))
+    }
+
+    pub fn wrap_of(&self, pulley: usize) -> Option<&Wrap> {
+        self.wraps.iter().find(|w| w.pulley == pulley)
+    }
+}
+
+/// Arc pitch angle alpha at centre-path radius rho: the gap between body
+/// ends on the arc, 2 rho sin(alpha/2) - l cos(alpha/2), carries the preload
+/// (gap = l T0 / EA).
+fn arc_pitch_angle(rho: f64, l: f64, strain: f64) -> f64 {
+    let mut a = l * (1.0 + strain) / rho;
+    for _ in 0..30 {
+        let (s, c) = (0.5 * a).sin_cos();
+        let f = 2.0 * rho * s - l * (c + strain);
+        let df = rho * c + 0.5 * l * s;
+        let step = f / df;
+        a -= step;
+        if step.abs() < 1e-15 * a.abs() {
+            break;
+        }
+    }
+    a
+}
+
+/// Sets each wrap's penetration and pitch angle for body length `l` and
+/// returns the number of bodies the path holds.
+fn bodies_on_path(params: &DriveParams, spans: &[Span], wraps: &mut [Wrap], l: f64) -> f64 {
+    let b = &params.belt;
+    let strain = b.preload / b.ea;
+    let (c1, c2) = (params.contact.c1 * l, params.contact.c2 * l);
+    let mut count: f64 = spans.iter().map(|s| s.length / (l * (1.0 + strain))).sum();
+    for w in wraps.iter_mut() {
+        let r = params.pulleys[w.pulley].radius;
+        let mut p = 0.0;
+        let mut alpha = l / r;
+        for _ in 0..8 {
+            alpha = arc_pitch_angle(r - p, l, strain);
+            // Radial resultant of the two neighbouring SDE forces (eq. 9 in equilibrium).
+            p = penetration_for_force(c1, c2, 2.0 * b.preload * (0.5 * alpha).sin()).min(0.5 * r);
+        }
+        w.penetration = p;
+        w.pitch_angle = alpha;
+        count += w.angle / alpha;
+    }
+    count
+}
+
+fn solve_body_length(
+    params: &DriveParams,
+    spans: &[Span],
+    wraps: &mut [Wrap],
+    path_length: f64,
+) -> Result<f64, ParamError> {
+    let n = params.belt.n_bodies as f64;
+    // The count of bodies the path holds falls monotonically with l.
+    let (mut lo, mut hi) = (0.25 * path_length / n, 2.0 * path_length / n);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if bodies_on_path(params, spans, wraps, mid) > n {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+        if hi - lo < 1e-16 * hi {
+            break;
+        }
+    }
+    let l = 0.5 * (lo + hi);
+    let _ = bodies_on_path(params, spans, wraps, l);
+    if !(l.is_finite() && l > 0.0) {
+        return Err(param_error("belt.nBodies", "no body length fits the belt path"));
+    }
+    Ok(l)
+}
+
+/// The path through the body end points: spans and arcs in loop order, by
+/// arc length. Every SDE gap and every body is a chord of this path, so the
+/// mounted chain has no kink; on an arc of radius rho_e a body of length l
+/// has its centre at sqrt(rho_e^2 - l^2/4), which is set to the equilibrium
+/// radius r - p0.
+struct EndPath {
+    /// Per segment: start arc length, length, heading at start, and for arcs
+    /// the centre, radius and side.
+    segs: Vec<Segment>,
+    length: f64,
+}
+
+#[derive(Clone, Copy)]
+enum Segment {
+    Line { s0: f64, len: f64, heading: f64, start: [f64; 2], dir: [f64; 2] },
+    Arc { s0: f64, len: f64, heading: f64, centre: [f64; 2], radius: f64, side: f64 },
+}
+
+impl EndPath {
+    fn new(params: &DriveParams, spans: &[Span], wraps: &[Wrap], radii: &[f64]) -> Self {
+        let mut s = 0.0;
+        let mut heading = spans[0].angle;
+        let mut segs = Vec::new();
+        for (sp, w) in spans.iter().zip(wraps) {
+            let dir = [sp.angle.cos(), sp.angle.sin()];
+            segs.push(Segment::Line { s0: s, len: sp.length, heading, start: sp.start, dir });
+            s += sp.length;
+            let p = &params.pulleys[w.pulley];
+            let radius = radii[w.pulley];
+            segs.push(Segment::Arc {
+                s0: s,
+                len: radius * w.angle,
+                heading,
+                centre: [p.x, p.y],
+                radius,
+                side: w.side,
+            });
+            s += radius * w.angle;
+            heading += w.side * w.angle;
+        }
+        Self { segs, length: s }
+    }
+
+    /// Point and continuous heading at arc length `s` (periodic in s).
+    fn at(&self, s: f64) -> ([f64; 2], f64) {
+        let turns = (s / self.length).floor();
+        let s = s - turns * self.length;
+        let extra = turns * TAU;
+        let k = self
+            .segs
+            .partition_point(|g| match *g {
+                Segment::Line { s0, .. } | Segment::Arc { s0, .. } => s0 <= s,
+            })
+            .max(1)
+            - 1;
+        match self.segs[k] {
+            Segment::Line { s0, heading, start, dir, .. } => {
+                let d = s - s0;
+                ([start[0] + d * dir[0], start[1] + d * dir[1]], heading + extra)
+            }
+            Segment::Arc { s0, heading, centre, radius, side, len } => {
+                let a = heading + side * (s - s0).min(len) / radius;
+                (
+                    [centre[0] + side * radius * a.sin(), centre[1] - side * radius * a.cos()],
+                    a + extra,
+                )
+            }
+        }
+    }
+
+    /// Arc length past `a` where the chord from the path point at `a` has
+    /// length `chord` (monotonic for chords short against the radii).
+    fn chord_end(&self, a: f64, chord: f64) -> f64 {
+        let pa = self.at(a).0;
+        let (mut lo, mut hi) = (a, a + 2.0 * chord + 1e-12);
+        for _ in 0..64 {
+            let mid = 0.5 * (lo + hi);
+            let pm = self.at(mid).0;
+            if (pm[0] - pa[0]).hypot(pm[1] - pa[1]) < chord {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        0.5 * (lo + hi)
+    }
+
+    /// Chains `n` bodies of length l with gaps `gap` from arc length 0;
+    /// writes (left, right) end arc lengths and returns the closing error:
+    /// the arc length left for the last gap minus the one that gap needs.
+    fn chain(&self, n: usize, l: f64, gap: f64, out: &mut Vec<(f64, f64)>) -> f64 {
+        out.clear();
+        let mut left = 0.0;
+        for i in 0..n {
+            let right = self.chord_end(left, l);
+            out.push((left, right));
+            if i + 1 < n {
+                left = self.chord_end(right, gap);
+            }
+        }
+        let last = out[n - 1].1;
+        (self.length - last) - (self.chord_end(last, gap) - last)
+    }
+}
+
+/// Places the bodies with end points on the end path, every body a chord of
+/// length l and every gap a chord carrying exactly the preload
+/// (gap = l T0 / EA), adjusting l so the chain closes. Returns (l, poses).
+fn place_bodies(params: &DriveParams, spans_wraps: impl Fn(f64) -> Result<(Vec<Span>, Vec<Wrap>, Vec<f64>), ParamError>, l_guess: f64) -> Result<(f64, Vec<BodyPose>), ParamError> {
+    let n = params.belt.n_bodies;
+    let strain = params.belt.preload / params.belt.ea;
+    let (spans, wraps, radii) = spans_wraps(l_guess)?;
+    let path = EndPath::new(params, &spans, &wraps, &radii);
+    let mut ends = Vec::with_capacity(n);
+    // The closing error falls as l grows; bracket around the guess.
+    let (mut lo, mut hi) = (0.95 * l_guess, 1.05 * l_guess);
+    for _ in 0..100 {
+        let mid = 0.5 * (lo + hi);
+        if path.chain(n, mid, mid * strain, &mut ends) > 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+        if hi - lo <= 1e-15 * hi {
+            break;
+        }
+    }
+    let l = 0.5 * (lo + hi);
+    path.chain(n, l, l * strain, &mut ends);
+    let bodies = ends
+        .iter()
+        .map(|&(a, b)| {
+            let (pa, pb) = (path.at(a).0, path.at(b).0);
+            let h = path.at(0.5 * (a + b)).1;
+            let chord = (pb[1] - pa[1]).atan2(pb[0] - pa[0]);
+            let d = chord - h;
+            BodyPose {
+                x: 0.5 * (pa[0] + pb[0]),
+                y: 0.5 * (pa[1] + pb[1]),
+                phi: h + d - TAU * (d / TAU).round(),
+            }
+        })
+        .collect();
+    Ok((l, bodies))
+}

@@ -1,0 +1,22 @@
+//! The belt-drive physics core: the planar discrete belt model of
+//! K. Kubas (2014), sections 2.1-2.3. Nothing in here knows about FMI.
+//!
+//! * [`params`]: parameters, the paper's two drives, validation;
+//! * [`layout`]: belt path, body length for the preload, mounted bodies;
+//! * [`contact`]: penalty contact, eq. 4-11;
+//! * [`friction`]: the two friction laws, eq. 12-19 and ref. [11];
+//! * [`model`]: equations of motion, eq. 20-24 (the right-hand side);
+//! * [`rkf45`]: the adaptive Runge-Kutta-Fehlberg 4(5) integrator;
+//! * [`drive`]: a drive that runs, with its outputs.
+
+pub mod contact;
+pub mod drive;
+pub mod friction;
+pub mod layout;
+pub mod model;
+pub mod params;
+pub mod rkf45;
+
+pub use drive::{Drive, Outputs};
+pub use model::Inputs;
+pub use params::{DriveParams, FrictionLaw, ParamError};

@@ -1,0 +1,430 @@
+//! Parameters of a belt drive, their defaults (the paper's section-4 drive)
+//! and their validation.
+//!
+//! Belt properties are given as continuum quantities (EA, axial damping,
+//! bending stiffness, contact stiffness per unit length) and mapped onto the
+//! discrete spring-damper elements (SDEs) with the body length l, so a finer
+//! mesh models the same belt. See `docs/model.md`, "Parameters".
+
+/// Number of pulley slots.
+pub const MAX_PULLEYS: usize = 6;
+
+/// The belt-pulley friction law (section 2.2).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FrictionLaw {
+    /// Eq. 12-19 as printed: velocity-regularised Coulomb friction with a
+    /// creep term; stiff for small `dv`.
+    Kubas2014 = 1,
+    /// Elastic-plastic creep law (ref. [11]): friction grows with the
+    /// integrated creep displacement, slides at mu_k.
+    Creep = 2,
+}
+
+impl FrictionLaw {
+    pub fn from_code(code: i32) -> Option<Self> {
+        match code {
+            1 => Some(Self::Kubas2014),
+            2 => Some(Self::Creep),
+            _ => None,
+        }
+    }
+}
+
+/// Which integrator advances the state.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Method {
+    /// Runge-Kutta-Fehlberg 4(5), the paper's method.
+    Rkf45 = 1,
+}
+
+impl Method {
+    pub fn from_code(code: i32) -> Option<Self> {
+        match code {
+            1 => Some(Self::Rkf45),
+            _ => None,
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct PulleyParams {
+    /// Centre [m].
+    pub x: f64,
+    pub y: f64,
+    /// Radius [m].
+    pub radius: f64,
+    /// Moment of inertia about the axis [kg m^2].
+    pub inertia: f64,
+    pub mu_static: f64,
+    pub mu_kinetic: f64,
+    /// The belt's back touches this pulley (an idler outside the loop).
+    pub back_side: bool,
+    /// The pulley follows a prescribed speed instead of eq. 24.
+    pub speed_driven: bool,
+    /// Resistance torque -load_damping * omega [N m s/rad] (Fig. 13).
+    pub load_damping: f64,
+    /// Built-in torque profile: ramps linearly from 0 to `torque_ramp`
+    /// over `ramp_time`, then holds (Fig. 12). Added to the torque input.
+    pub torque_ramp: f64,
+    /// Built-in speed profile for speed-driven pulleys, added to omegaRef.
+    pub omega_ramp: f64,
+    pub ramp_time: f64,
+}
+
+impl PulleyParams {
+    /// A pulley of the paper's section-4 drive at (x, y).
+    pub fn paper_5pk(x: f64, y: f64) -> Self {
+        Self {
+            x,
+            y,
+            radius: 0.027,
+            inertia: 2.4e-4,
+            mu_static: 1.05,
+            mu_kinetic: 1.0,
+            back_side: false,
+            speed_driven: false,
+            load_damping: 0.0,
+            torque_ramp: 0.0,
+            omega_ramp: 0.0,
+            ramp_time: 0.3,
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct BeltParams {
+    pub n_bodies: usize,
+    /// Static tension at assembly [N].
+    pub preload: f64,
+    /// Axial stiffness [N]; each translational SDE gets EA / l.
+    pub ea: f64,
+    /// Axial damping [N s] (force per unit strain rate); each SDE gets value / l.
+    pub axial_damping: f64,
+    /// Bending stiffness EI [N m^2]; each torsional SDE gets EI / l.
+    pub bending_stiffness: f64,
+    /// Bending damping [N m^2 s]; each torsional SDE gets value / l.
+    pub bending_damping: f64,
+    /// [kg/m]
+    pub mass_per_length: f64,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct ContactParams {
+    /// Quadratic penalty stiffness per unit belt length [N/m^3] (eq. 9: c1 = value * l).
+    pub c1: f64,
+    /// Linear penalty stiffness per unit belt length [N/m^2] (eq. 9: c2 = value * l).
+    pub c2: f64,
+    /// Contact damping per unit belt length [N s/m^2] (eq. 9: b = value * l).
+    pub damping: f64,
+    /// Penetration of full damping, eq. 10-11 [m].
+    pub p_max: f64,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrictionParams {
+    pub law: FrictionLaw,
+    /// Transition velocity of the kubas2014 law [m/s].
+    pub dv: f64,
+    /// Creep displacement of fully developed static friction [m].
+    pub creep_max: f64,
+    /// Friction factor over a belt zone (oil contamination, section 5).
+    pub zone_factor: f64,
+    /// First body of the zone (0-based) and its length in bodies.
+    pub zone_start: usize,
+    pub zone_bodies: usize,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct SolverParams {
+    pub method: Method,
+    pub rel_tol: f64,
+    pub abs_tol: f64,
+    pub initial_step: f64,
+    /// Step-count guard per `advance` call.
+    pub max_steps: u64,
+}
+
+/// Everything that defines a drive.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DriveParams {
+    /// Pulleys in belt order around the loop (`n_pulleys` of them are used).
+    pub pulleys: Vec<PulleyParams>,
+    pub belt: BeltParams,
+    pub contact: ContactParams,
+    pub friction: FrictionParams,
+    pub solver: SolverParams,
+    /// [m/s^2], acting in -y.
+    pub gravity: f64,
+    /// Body (0-based) whose forces the probe outputs report.
+    pub probe_body: usize,
+}
+
+/// Body length of the paper's section-4 mesh (1.2 m belt, 150 bodies), used
+/// to turn its per-element figures into per-length belt properties.
+const PAPER4_BODY_LENGTH: f64 = 0.008;
+/// Same for section 3 (0.2530*2 + 2*pi*0.08125 m belt, 60 bodies).
+const PAPER3_BODY_LENGTH: f64 = (2.0 * 0.253 + 2.0 * std::f64::consts::PI * 0.08125) / 60.0;
+
+impl Default for DriveParams {
+    fn default() -> Self {
+        Self::kubas_section4()
+    }
+}
+
+impl DriveParams {
+    /// The paper's section-4 drive: 5PK poly-V belt, two 27 mm pulleys
+    /// 0.515 m apart, 150 bodies, 550 N preload, -15 N m drive torque ramped
+    /// over 0.3 s on pulley 1, resistance 15 N m at 8*pi rad/s on pulley 2.
+    pub fn kubas_section4() -> Self {
+        let l = PAPER4_BODY_LENGTH;
+        let mut p1 = PulleyParams::paper_5pk(0.0, 0.0);
+        p1.torque_ramp = -15.0;
+        let mut p2 = PulleyParams::paper_5pk(0.515, 0.0);
+        p2.load_damping = 15.0 / (8.0 * std::f64::consts::PI);
+        Self {
+            pulleys: vec![p1, p2],
+            belt: BeltParams {
+                n_bodies: 150,
+                preload: 550.0,
+                ea: 1.52e5,
+                axial_damping: 20.5 * l,
+                bending_stiffness: 0.026 * l,
+                bending_damping: 0.0,
+                mass_per_length: 0.096,
+            },
+            contact: ContactParams {
+                c1: 3.0256e9 / l,
+                c2: 6.5e5 / l,
+                damping: 300.0 / l,
+                p_max: 1e-3,
+            },
+            friction: FrictionParams {
+                law: FrictionLaw::Creep,
+                dv: 1e-5,
+                creep_max: 1e-4,
+                zone_factor: 1.0,
+                zone_start: 0,
+                zone_bodies: 0,
+            },
+            solver: SolverParams {
+                method: Method::Rkf45,
+                rel_tol: 1e-4,
+                abs_tol: 1e-6,
+                initial_step: 1e-7,
+                max_steps: 100_000_000,
+            },
+            gravity: 9.81,
+            probe_body: 107,
+        }
+    }
+
+    /// The paper's section-3 verification drive (after Cepon & Boltezar
+    /// [12]): 60 bodies, two 81.25 mm pulleys 0.253 m apart, mu = 0.8, the
+    /// drive pulley speed-driven. The drive speed profile and the load torque
+    /// are set by the caller (Figs. 8 and 9 are not in the text); the
+    /// defaults here ramp the drive to -10 rad/s over 0.1 s (clockwise, as
+    /// in section 4) against a 2 N m load damping-free resistance torque
+    /// input of zero. Preload 150 N (not given in the text; see docs/model.md).
+    pub fn kubas_section3() -> Self {
+        let l = PAPER3_BODY_LENGTH;
+        let pulley = |x: f64| PulleyParams {
+            x,
+            y: 0.0,
+            radius: 0.08125,
+            inertia: 0.02,
+            mu_static: 0.8,
+            mu_kinetic: 0.8,
+            back_side: false,
+            speed_driven: false,
+            load_damping: 0.0,
+            torque_ramp: 0.0,
+            omega_ramp: 0.0,
+            ramp_time: 0.1,
+        };
+        let mut p1 = pulley(0.0);
+        p1.speed_driven = true;
+        p1.omega_ramp = -10.0;
+        let p2 = pulley(0.253);
+        Self {
+            pulleys: vec![p1, p2],
+            belt: BeltParams {
+                n_bodies: 60,
+                preload: 150.0,
+                ea: 1e4,
+                axial_damping: 0.5 * l,
+                bending_stiffness: 0.0208 * l,
+                bending_damping: 0.0,
+                mass_per_length: 1.036,
+            },
+            contact: ContactParams {
+                c1: 0.0,
+                c2: 5e6 / l,
+                damping: 300.0 / l,
+                p_max: 1e-3,
+            },
+            friction: FrictionParams {
+                law: FrictionLaw::Creep,
+                dv: 1e-5,
+                creep_max: 1e-4,
+                zone_factor: 1.0,
+                zone_start: 0,
+                zone_bodies: 0,
+            },
+            solver: SolverParams {
+                method: Method::Rkf45,
+                rel_tol: 1e-4,
+                abs_tol: 1e-6,
+                initial_step: 1e-7,
+                max_steps: 100_000_000,
+            },
+            gravity: 9.81,
+            probe_body: 45,
+        }
+    }
+}
+
+/// A parameter the model refuses, with the name the user knows it by.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParamError {
+    /// Variable name as in modelDescription.xml, e.g. `pulley[2].radius`.
+    pub parameter: String,
+    pub message: String,
+}
+
+impl std::fmt::Display for ParamError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}: {}", self.parameter, self.message)
+    }
+}
+
+impl std::error::Error for ParamError {}
+
+pub(crate) fn param_error(parameter: impl Into<String>, message: impl Into<String>) -> ParamError {
+    ParamError {
+        parameter: parameter.into(),
+        message: message.into(),
+    }
+}
+
+/// Largest body count accepted (bounded work per call; 1e4 bodies already
+/// resolve a 5 mm pulley).
+pub const MAX_BODIES: usize = 20_000;
+
+fn check(ok: bool, name: &str, what: &str, value: f64) -> Result<(), ParamError> {
+    if ok {
+        Ok(())
+    } else {
+        Err(param_error(name, format!("must be {what} (got {value})")))
+    }
+}
+
+fn positive(name: &str, v: f64) -> Result<(), ParamError> {
+    check(v.is_finite() && v > 0.0, name, "finite and > 0", v)
+}
+
+fn non_negative(name: &str, v: f64) -> Result<(), ParamError> {
+    check(v.is_finite() && v >= 0.0, name, "finite and >= 0", v)
+}
+
+fn finite(name: &str, v: f64) -> Result<(), ParamError> {
+    check(v.is_finite(), name, "finite", v)
+}
+
+impl DriveParams {
+    /// Checks every scalar range. Geometric checks (overlap, wrap, arc
+    /// resolution) are made by [`crate::belt::layout::Layout::new`].
+    pub fn validate(&self) -> Result<(), ParamError> {
+        let np = self.pulleys.len();
+        if !(2..=MAX_PULLEYS).contains(&np) {
+            return Err(param_error(
+                "nPulleys",
+                format!("must be in 2..={MAX_PULLEYS} (got {np})"),
+            ));
+        }
+        let b = &self.belt;
+        if !(3..=MAX_BODIES).contains(&b.n_bodies) {
+            return Err(param_error(
+                "belt.nBodies",
+                format!("must be in 3..={MAX_BODIES} (got {})", b.n_bodies),
+            ));
+        }
+        non_negative("belt.preload", b.preload)?;
+        positive("belt.EA", b.ea)?;
+        check(
+            b.preload < 0.5 * b.ea,
+            "belt.preload",
+            "below half of belt.EA (strain < 50 %)",
+            b.preload,
+        )?;
+        non_negative("belt.axialDamping", b.axial_damping)?;
+        non_negative("belt.bendingStiffness", b.bending_stiffness)?;
+        non_negative("belt.bendingDamping", b.bending_damping)?;
+        positive("belt.massPerLength", b.mass_per_length)?;
+        let c = &self.contact;
+        non_negative("contact.c1", c.c1)?;
+        non_negative("contact.c2", c.c2)?;
+        check(
+            c.c1 > 0.0 || c.c2 > 0.0,
+            "contact.c2",
+            "> 0 when contact.c1 is 0 (no contact stiffness)",
+            c.c2,
+        )?;
+        non_negative("contact.damping", c.damping)?;
+        positive("contact.pMax", c.p_max)?;
+        let f = &self.friction;
+        positive("friction.dv", f.dv)?;
+        positive("friction.creepMax", f.creep_max)?;
+        non_negative("friction.zoneFactor", f.zone_factor)?;
+        if f.zone_bodies > 0 && f.zone_start >= b.n_bodies {
+            return Err(param_error(
+                "friction.zoneStart",
+                format!("must be in 1..={} (got {})", b.n_bodies, f.zone_start + 1),
+            ));
+        }
+        if f.zone_bodies > b.n_bodies {
+            return Err(param_error(
+                "friction.zoneBodies",
+                format!("must be in 0..={} (got {})", b.n_bodies, f.zone_bodies),
+            ));
+        }
+        non_negative("gravity", self.gravity)?;
+        if self.probe_body >= b.n_bodies {
+            return Err(param_error(
+                "probe.body",
+                format!("must be in 1..={} (got {})", b.n_bodies, self.probe_body + 1),
+            ));
+        }
+        let s = &self.solver;
+        check(
+            s.rel_tol.is_finite() && s.rel_tol > 0.0 && s.rel_tol < 1.0,
+            "solver.relTol",
+            "in (0, 1)",
+            s.rel_tol,
+        )?;
+        positive("solver.absTol", s.abs_tol)?;
+        positive("solver.initialStep", s.initial_step)?;
+        if s.max_steps == 0 {
+            return Err(param_error("solver.maxSteps", "must be >= 1 (got 0)"));
+        }
+        for (j, p) in self.pulleys.iter().enumerate() {
+            let n = |field: &str| format!("pulley[{}].{field}", j + 1);
+            finite(&n("x"), p.x)?;
+            finite(&n("y"), p.y)?;
+            positive(&n("radius"), p.radius)?;
+            positive(&n("inertia"), p.inertia)?;
+            non_negative(&n("muStatic"), p.mu_static)?;
+            non_negative(&n("muKinetic"), p.mu_kinetic)?;
+            check(
+                p.mu_kinetic <= p.mu_static,
+                &n("muKinetic"),
+                &format!("<= pulley[{}].muStatic = {}", j + 1, p.mu_static),
+                p.mu_kinetic,
+            )?;
+            non_negative(&n("loadDamping"), p.load_damping)?;
+            finite(&n("torqueRamp"), p.torque_ramp)?;
+            finite(&n("omegaRamp"), p.omega_ramp)?;
+            positive(&n("rampTime"), p.ramp_time)?;
+        }
+        Ok(())
+    }
+}

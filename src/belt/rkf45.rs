@@ -1,0 +1,291 @@
+//! Runge-Kutta-Fehlberg 4(5) with adaptive step size (the paper's method).
+//!
+//! The 5th-order solution is propagated (local extrapolation) and the
+//! difference to the embedded 4th-order one is the error estimate, measured
+//! in the RMS norm with weights `abs_tol + rel_tol * |y|`. The step size
+//! survives between calls; the last step of a call is clipped so the
+//! integration lands exactly on the target time. All work vectors are
+//! allocated once.
+
+/// An ODE y' = f(t, y) with a discrete update after each accepted step.
+pub trait OdeSystem {
+    fn dim(&self) -> usize;
+    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]);
+    /// Called with the new state after every accepted step.
+    fn after_step(&self, _y: &mut [f64]) {}
+}
+
+/// Counters, cumulative over the life of the integrator.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Stats {
+    pub steps: u64,
+    pub rejected: u64,
+    pub rhs_evals: u64,
+    pub last_step: f64,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum StepFailure {
+    /// More than `max_steps` steps were needed.
+    TooManySteps { t: f64, steps: u64 },
+    /// The step size fell below the resolution of t.
+    StepTooSmall { t: f64, h: f64 },
+    /// The right-hand side produced NaN or infinity at every trial step.
+    NonFinite { t: f64 },
+}
+
+impl std::fmt::Display for StepFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::TooManySteps { t, steps } => write!(
+                f,
+                "integrator step-count guard hit at t = {t} s after {steps} steps (solver.maxSteps)"
+            ),
+            Self::StepTooSmall { t, h } => {
+                write!(f, "integrator step size fell to {h:e} s at t = {t} s")
+            }
+            Self::NonFinite { t } => write!(f, "the state became non-finite at t = {t} s"),
+        }
+    }
+}
+
+// Fehlberg's coefficients.
+const C: [f64; 6] = [0.0, 0.25, 0.375, 12.0 / 13.0, 1.0, 0.5];
+const A2: [f64; 1] = [0.25];
+const A3: [f64; 2] = [3.0 / 32.0, 9.0 / 32.0];
+const A4: [f64; 3] = [1932.0 / 2197.0, -7200.0 / 2197.0, 7296.0 / 2197.0];
+const A5: [f64; 4] = [439.0 / 216.0, -8.0, 3680.0 / 513.0, -845.0 / 4104.0];
+const A6: [f64; 5] = [
+    -8.0 / 27.0,
+    2.0,
+    -3544.0 / 2565.0,
+    1859.0 / 4104.0,
+    -11.0 / 40.0,
+];
+/// 5th-order weights.
+const B5: [f64; 6] = [
+    16.0 / 135.0,
+    0.0,
+    6656.0 / 12825.0,
+    28561.0 / 56430.0,
+    -9.0 / 50.0,
+    2.0 / 55.0,
+];
+/// 5th minus 4th-order weights (error estimate).
+const E: [f64; 6] = [
+    1.0 / 360.0,
+    0.0,
+    -128.0 / 4275.0,
+    -2197.0 / 75240.0,
+    1.0 / 50.0,
+    2.0 / 55.0,
+];
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Rkf45 {
+    pub rel_tol: f64,
+    pub abs_tol: f64,
+    pub max_steps: u64,
+    /// Step size proposed for the next step.
+    pub h: f64,
+    pub stats: Stats,
+    k: [Vec<f64>; 6],
+    tmp: Vec<f64>,
+    backup: Vec<f64>,
+}
+
+impl Rkf45 {
+    pub fn new(dim: usize, rel_tol: f64, abs_tol: f64, h0: f64, max_steps: u64) -> Self {
+        Self {
+            rel_tol,
+            abs_tol,
+            max_steps,
+            h: h0,
+            stats: Stats::default(),
+            k: std::array::from_fn(|_| vec![0.0; dim]),
+            tmp: vec![0.0; dim],
+            backup: vec![0.0; dim],
+        }
+    }
+
+    /// One trial step of size h from (t, y): writes the 5th-order solution
+    /// to `self.tmp` and returns the weighted RMS error norm.
+    fn trial<S: OdeSystem>(&mut self, sys: &S, t: f64, y: &[f64], h: f64) -> f64 {
+        let [k1, k2, k3, k4, k5, k6] = &mut self.k;
+        let tmp = &mut self.tmp;
+        sys.rhs(t, y, k1);
+        for i in 0..y.len() {
+            tmp[i] = y[i] + h * A2[0] * k1[i];
+        }
+        sys.rhs(t + C[1] * h, tmp, k2);
+        for i in 0..y.len() {
+            tmp[i] = y[i] + h * (A3[0] * k1[i] + A3[1] * k2[i]);
+        }
+        sys.rhs(t + C[2] * h, tmp, k3);
+        for i in 0..y.len() {
+            tmp[i] = y[i] + h * (A4[0] * k1[i] + A4[1] * k2[i] + A4[2] * k3[i]);
+        }
+        sys.rhs(t + C[3] * h, tmp, k4);
+        for i in 0..y.len() {
+            tmp[i] = y[i] + h * (A5[0] * k1[i] + A5[1] * k2[i] + A5[2] * k3[i] + A5[3] * k4[i]);
+        }
+        sys.rhs(t + C[4] * h, tmp, k5);
+        for i in 0..y.len() {
+            tmp[i] = y[i]
+                + h * (A6[0] * k1[i]
+                    + A6[1] * k2[i]
+                    + A6[2] * k3[i]
+                    + A6[3] * k4[i]
+                    + A6[4] * k5[i]);
+        }
+        sys.rhs(t + C[5] * h, tmp, k6);
+        self.stats.rhs_evals += 6;
+        let mut sum = 0.0;
+        for i in 0..y.len() {
+            let y5 = y[i]
+                + h * (B5[0] * k1[i] + B5[2] * k3[i] + B5[3] * k4[i] + B5[4] * k5[i] + B5[5] * k6[i]);
+            let err = h
+                * (E[0] * k1[i] + E[2] * k3[i] + E[3] * k4[i] + E[4] * k5[i] + E[5] * k6[i]);
+            let w = self.abs_tol + self.rel_tol * y[i].abs().max(y5.abs());
+            let e = err / w;
+            sum += e * e;
+            tmp[i] = y5;
+        }
+        (sum / y.len() as f64).sqrt()
+    }
+
+    /// Integrates `y` from `*t` to exactly `t_end`. On failure `y` and `*t`
+    /// are restored to their values at the call.
+    pub fn advance<S: OdeSystem>(
+        &mut self,
+        sys: &S,
+        t: &mut f64,
+        y: &mut [f64],
+        t_end: f64,
+    ) -> Result<(), StepFailure> {
+        let t_start = *t;
+        self.backup.copy_from_slice(y);
+        let stats_start = self.stats;
+        let h_start = self.h;
+        let result = self.advance_inner(sys, t, y, t_end);
+        if result.is_err() {
+            y.copy_from_slice(&self.backup);
+            *t = t_start;
+            self.h = h_start;
+            // Keep the counters of the failed attempt: the work was done.
+            self.stats.last_step = stats_start.last_step;
+        }
+        result
+    }
+
+    fn advance_inner<S: OdeSystem>(
+        &mut self,
+        sys: &S,
+        t: &mut f64,
+        y: &mut [f64],
+        t_end: f64,
+    ) -> Result<(), StepFailure> {
+        let mut steps = 0u64;
+        let mut non_finite = 0u32;
+        while *t < t_end {
+            if steps >= self.max_steps {
+                return Err(StepFailure::TooManySteps { t: *t, steps });
+            }
+            let remaining = t_end - *t;
+            // Clip the last step to land on t_end (also when only slightly shorter).
+            let last = self.h >= remaining * (1.0 - 1e-12);
+            let h = if last { remaining } else { self.h };
+            let h_min = 16.0 * f64::EPSILON * t.abs().max(t_end.abs()).max(1e-3);
+            if h < h_min && !last {
+                return Err(StepFailure::StepTooSmall { t: *t, h });
+            }
+            let err = self.trial(sys, *t, y, h);
+            if !err.is_finite() {
+                non_finite += 1;
+                self.stats.rejected += 1;
+                if non_finite > 40 {
+                    return Err(StepFailure::NonFinite { t: *t });
+                }
+                self.h = h * 0.25;
+                continue;
+            }
+            non_finite = 0;
+            // Standard controller: safety 0.9, growth limited to [0.2, 5].
+            let factor = if err == 0.0 {
+                5.0
+            } else {
+                (0.9 * err.powf(-0.2)).clamp(0.2, 5.0)
+            };
+            if err <= 1.0 {
+                y.copy_from_slice(&self.tmp);
+                sys.after_step(y);
+                *t = if last { t_end } else { *t + h };
+                steps += 1;
+                self.stats.steps += 1;
+                self.stats.last_step = h;
+                // A clipped last step does not shrink the carried step size.
+                self.h = if last { self.h.max(h * factor) } else { h * factor };
+            } else {
+                self.stats.rejected += 1;
+                self.h = h * factor;
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Harmonic oscillator y'' = -y.
+    struct Osc;
+    impl OdeSystem for Osc {
+        fn dim(&self) -> usize {
+            2
+        }
+        fn rhs(&self, _t: f64, y: &[f64], dy: &mut [f64]) {
+            dy[0] = y[1];
+            dy[1] = -y[0];
+        }
+    }
+
+    #[test]
+    fn oscillator_accuracy_scales_with_tolerance() {
+        let mut prev_err = f64::INFINITY;
+        for tol in [1e-4, 1e-7, 1e-10] {
+            let mut rk = Rkf45::new(2, tol, tol, 1e-3, 1_000_000);
+            let mut y = [1.0, 0.0];
+            let mut t = 0.0;
+            rk.advance(&Osc, &mut t, &mut y, 10.0).unwrap();
+            assert_eq!(t, 10.0);
+            let err = (y[0] - 10f64.cos()).abs() + (y[1] + 10f64.sin()).abs();
+            assert!(err < 100.0 * tol, "tol {tol}: err {err}");
+            assert!(err < prev_err);
+            prev_err = err;
+        }
+    }
+
+    #[test]
+    fn lands_exactly_on_communication_points_and_keeps_step() {
+        let mut rk = Rkf45::new(2, 1e-8, 1e-8, 1e-3, 1_000_000);
+        let mut y = [1.0, 0.0];
+        let mut t = 0.0;
+        for k in 1..=100 {
+            let t_end = k as f64 * 0.0123;
+            rk.advance(&Osc, &mut t, &mut y, t_end).unwrap();
+            assert_eq!(t, t_end);
+        }
+        assert!(rk.h > 0.01, "step size must survive the clipped steps: {}", rk.h);
+    }
+
+    #[test]
+    fn failure_restores_state() {
+        let mut rk = Rkf45::new(2, 1e-12, 1e-12, 1e-3, 5);
+        let mut y = [1.0, 0.0];
+        let mut t = 0.5;
+        let err = rk.advance(&Osc, &mut t, &mut y, 100.0).unwrap_err();
+        assert!(matches!(err, StepFailure::TooManySteps { .. }));
+        assert_eq!((t, y), (0.5, [1.0, 0.0]));
+    }
+}

@@ -1,0 +1,15 @@
+//! BeltDrive: the planar discrete belt-drive model of K. Kubas (2014) as an
+//! FMI 2.0 Co-Simulation FMU.
+//!
+//! * [`belt`] is the physics core (bodies, contact, friction, layout, RKF45).
+//!   It knows nothing about FMI.
+//! * [`fmi`] is the FMI 2.0 plumbing (C ABI, state machine, logging, FMU
+//!   state). It knows nothing about belts beyond the [`fmi::FmuModel`] trait.
+//! * [`fmu_model`] connects the two: it maps the variables of
+//!   `modelDescription/modelDescription.xml` onto the core's parameters,
+//!   inputs and outputs.
+
+pub mod belt;
+pub mod fmi;
+pub mod fmu_model;
+pub mod variables;
