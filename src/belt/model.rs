@@ -91,6 +91,9 @@ pub struct BeltSystem {
     pub zone_factor: Vec<f64>,
     /// Squared regularisation length of the SDE direction (zero-length gap).
     pub eps2: f64,
+    /// Mass-proportional damping [1/s] used only while the mounted belt is
+    /// relaxed into static equilibrium (see `Drive::new`); 0 when running.
+    pub relax_damping: f64,
     pub inputs: Inputs,
 }
 
@@ -168,6 +171,7 @@ impl BeltSystem {
             friction: Friction::new(f.law, f.dv, f.creep_max),
             zone_factor,
             eps2: (1e-6 * l) * (1e-6 * l),
+            relax_damping: 0.0,
             inputs: Inputs::default(),
         }
     }
@@ -326,11 +330,12 @@ impl BeltSystem {
             }
             prev = cur;
         }
+        let c = self.relax_damping;
         for i in 0..n {
             let o = BODY_DOF * i;
-            dy[o + 3] *= self.inv_mass;
-            dy[o + 4] *= self.inv_mass;
-            dy[o + 5] *= self.inv_inertia;
+            dy[o + 3] = dy[o + 3] * self.inv_mass - c * y[o + 3];
+            dy[o + 4] = dy[o + 4] * self.inv_mass - c * y[o + 4];
+            dy[o + 5] = dy[o + 5] * self.inv_inertia - c * y[o + 5];
         }
 
         // Pulleys (eq. 24).
