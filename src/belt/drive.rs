@@ -172,8 +172,17 @@ pub struct Drive {
 }
 
 impl Drive {
-    /// Validates `params`, lays out the belt and mounts it at time `t0`.
+    /// Validates `params`, lays out the belt, mounts it at time `t0` and
+    /// relaxes it into static equilibrium.
     pub fn new(params: &DriveParams, t0: f64) -> Result<Self, ParamError> {
+        let mut drive = Self::mounted(params, t0)?;
+        relax_into_equilibrium(&drive.sys, &mut drive.y);
+        Ok(drive)
+    }
+
+    /// The drive as laid out, without the equilibrium relaxation (for
+    /// restoring a saved state, which replaces the state anyway).
+    pub fn mounted(params: &DriveParams, t0: f64) -> Result<Self, ParamError> {
         params.validate()?;
         let layout = Layout::new(params)?;
         let sys = BeltSystem::new(params, &layout);
@@ -185,7 +194,6 @@ impl Drive {
             y[o + 1] = b.y;
             y[o + 2] = b.phi;
         }
-        relax_into_equilibrium(&sys, &mut y);
         let s = &params.solver;
         let integrator = Rkf45::new(dim, s.rel_tol, s.abs_tol, s.initial_step, s.max_steps);
         let mut drive = Self {

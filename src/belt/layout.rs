@@ -324,11 +324,11 @@ impl Layout {
         })
     }
 
-    /// The span that joins pulleys `a` and `b` (either direction).
+    /// The free span from pulley `a` to pulley `b` in the listed belt order
+    /// (the loop may have been traversed the other way round).
     pub fn span_between(&self, a: usize, b: usize) -> Option<&Span> {
-        self.spans
-            .iter()
-            .find(|s| (s.from == a && s.to == b) || (s.from == b && s.to == a))
+        let forward = self.spans.iter().find(|s| s.from == a && s.to == b);
+        forward.or_else(|| self.spans.iter().find(|s| s.from == b && s.to == a))
     }
 
     pub fn wrap_of(&self, pulley: usize) -> Option<&Wrap> {
