@@ -1,0 +1,40 @@
+//! The hot path (right-hand side and integrator steps) allocates nothing.
+
+use belt_drive::belt::model::NoRecord;
+use belt_drive::belt::{Drive, DriveParams};
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+struct Counting;
+static ALLOCS: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
+        ALLOCS.fetch_add(1, Ordering::Relaxed);
+        // SAFETY: forwarded unchanged to the system allocator.
+        unsafe { System.alloc(l) }
+    }
+    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
+        // SAFETY: forwarded unchanged to the system allocator.
+        unsafe { System.dealloc(p, l) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+#[test]
+fn rhs_and_steps_do_not_allocate() {
+    let p = DriveParams::kubas_section4();
+    let mut d = Drive::new(&p, 0.0).unwrap();
+    let y = d.state().to_vec();
+    let mut dy = vec![0.0; y.len()];
+    d.advance(1e-4).unwrap(); // warm-up
+    let before = ALLOCS.load(Ordering::Relaxed);
+    for _ in 0..100 {
+        d.system().rhs(0.0, &y, &mut dy, &mut NoRecord);
+    }
+    d.advance(2e-3).unwrap();
+    let after = ALLOCS.load(Ordering::Relaxed);
+    assert_eq!(after - before, 0, "allocations on the hot path");
+}
