@@ -419,7 +419,7 @@ struct EndPath {
 
 #[derive(Clone, Copy)]
 enum Segment {
-    Line { s0: f64, len: f64, heading: f64, start: [f64; 2], dir: [f64; 2] },
+    Line { s0: f64, heading: f64, start: [f64; 2], dir: [f64; 2] },
     Arc { s0: f64, len: f64, heading: f64, centre: [f64; 2], radius: f64, side: f64 },
 }
 
@@ -430,7 +430,7 @@ impl EndPath {
         let mut segs = Vec::new();
         for (sp, w) in spans.iter().zip(wraps) {
             let dir = [sp.angle.cos(), sp.angle.sin()];
-            segs.push(Segment::Line { s0: s, len: sp.length, heading, start: sp.start, dir });
+            segs.push(Segment::Line { s0: s, heading, start: sp.start, dir });
             s += sp.length;
             let p = &params.pulleys[w.pulley];
             let radius = radii[w.pulley];
