@@ -30,7 +30,8 @@ fn rhs_cost(n: usize) -> f64 {
         .map(|_| {
             let t = Instant::now();
             for _ in 0..reps {
-                d.system().rhs(0.01, std::hint::black_box(&y), &mut dy, &mut NoRecord);
+                d.system()
+                    .rhs(0.01, std::hint::black_box(&y), &mut dy, &mut NoRecord);
             }
             std::hint::black_box(&dy);
             t.elapsed().as_secs_f64() / reps as f64

@@ -25,7 +25,11 @@ fn two_pulleys_open_belt_length_and_wraps() {
     assert!((w1 - (PI - 2.0 * beta)).abs() < 1e-12, "wrap 1 {w1}");
     assert!((w2 - (PI + 2.0 * beta)).abs() < 1e-12, "wrap 2 {w2}");
     let len = 2.0 * (d * d - (r2 - r1) * (r2 - r1)).sqrt() + r1 * w1 + r2 * w2;
-    assert!((l.path_length - len).abs() < 1e-12, "{} vs {len}", l.path_length);
+    assert!(
+        (l.path_length - len).abs() < 1e-12,
+        "{} vs {len}",
+        l.path_length
+    );
     // Unstretched length n l is shorter by the preload strain (here 0).
     let natural = l.body_length * p.belt.n_bodies as f64;
     assert!((natural - len).abs() < 1e-3 * len);
@@ -45,7 +49,12 @@ fn back_side_idler_and_either_listing_direction() {
     let mut idler = mk(0.15, 0.09, 0.03);
     idler.back_side = true;
     // crank (0,0), alternator (0.25, 0.12), idler between them on the top span's outside
-    p.pulleys = vec![mk(0.0, 0.0, 0.07), idler, mk(0.3, 0.12, 0.03), mk(0.3, -0.05, 0.05)];
+    p.pulleys = vec![
+        mk(0.0, 0.0, 0.07),
+        idler,
+        mk(0.3, 0.12, 0.03),
+        mk(0.3, -0.05, 0.05),
+    ];
     p.belt.n_bodies = 200;
     let l = Layout::new(&p).expect("valid accessory drive");
     let turning: f64 = l.wraps.iter().map(|w| w.side * w.angle).sum();

@@ -65,7 +65,9 @@ fn creep_speed_loss_and_torque_balance() {
     let (t_tight, t_slack) = (a160.span_tension[0], a160.span_tension[1]);
     let theory = 1.0 - (1.0 + t_slack / ea) / (1.0 + t_tight / ea);
     let extrapolated = 2.0 * s160 - s80;
-    println!("slip n=80 {s80:.6}, n=160 {s160:.6}, extrapolated {extrapolated:.6}, theory {theory:.6}");
+    println!(
+        "slip n=80 {s80:.6}, n=160 {s160:.6}, extrapolated {extrapolated:.6}, theory {theory:.6}"
+    );
     // 5 %: the figure for the creep law.
     assert!(
         (extrapolated - theory).abs() < 0.05 * theory,
@@ -108,7 +110,10 @@ fn capstan_limit_and_gross_slip() {
     let ratio = a.span_tension[0] / a.span_tension[1];
     println!("ratio {ratio:.3}, capstan {ratio_max:.3}, m_max {m_max:.3}");
     // 2 %: the bound (discrete wrap, penalty contact).
-    assert!(ratio < 1.02 * ratio_max, "tension ratio {ratio} > e^(mu pi) = {ratio_max}");
+    assert!(
+        ratio < 1.02 * ratio_max,
+        "tension ratio {ratio} > e^(mu pi) = {ratio_max}"
+    );
     let slip = 1.0 - a.omega[1] / a.omega[0];
     assert!(slip < 0.05, "no gross slip below the limit: {slip}");
 
@@ -117,7 +122,10 @@ fn capstan_limit_and_gross_slip() {
     let mut d = drive(&p);
     let a = run_and_average(&mut d, 0.25, 0.4, 1e-3);
     let slip = 1.0 - a.omega[1] / a.omega[0];
-    assert!(slip > 0.2, "gross slip expected beyond the capstan limit, slip {slip}");
+    assert!(
+        slip > 0.2,
+        "gross slip expected beyond the capstan limit, slip {slip}"
+    );
 }
 
 /// Work done by the applied torques = kinetic + potential energy change +
@@ -131,7 +139,8 @@ fn energy_balance_closes() {
     let o0 = d.outputs();
     d.advance(0.15).unwrap();
     let o = d.outputs();
-    let stored = (o.kinetic_energy - o0.kinetic_energy) + (o.potential_energy - o0.potential_energy);
+    let stored =
+        (o.kinetic_energy - o0.kinetic_energy) + (o.potential_energy - o0.potential_energy);
     let balance = o.energy_input - stored - o.energy_dissipated;
     println!(
         "W_in {:.5} J, stored {:.5} J, dissipated {:.5} J, residual {:.3e} J",
@@ -139,7 +148,10 @@ fn energy_balance_closes() {
     );
     assert!(o.energy_input > 1.0);
     // 0.1 %: the figure; the integrator's error is far below it.
-    assert!(balance.abs() < 1e-3 * o.energy_input, "residual {balance} J");
+    assert!(
+        balance.abs() < 1e-3 * o.energy_input,
+        "residual {balance} J"
+    );
 }
 
 /// Without friction and damping, the belt's vibration conserves energy to
@@ -194,6 +206,10 @@ fn drive_through_seam_is_smooth() {
     let mut d: Drive = drive(&p);
     // 0.3 s at 2 m/s moves the belt 0.6 m, past the seam of body 0.
     let a = run_and_average(&mut d, 0.1, 0.3, 5e-3);
-    assert!(a.max_tension < 2.0 * p.belt.preload, "max tension {}", a.max_tension);
+    assert!(
+        a.max_tension < 2.0 * p.belt.preload,
+        "max tension {}",
+        a.max_tension
+    );
     assert!(a.min_tension > 0.0);
 }

@@ -295,7 +295,11 @@ impl Drive {
             let po = &mut out.pulleys[j];
             po.angle = self.y[o];
             po.omega = self.sys.pulley_speed(j, self.t, &self.y);
-            po.slip = if v1 != 0.0 { 1.0 - surface(j) / v1 } else { 0.0 };
+            po.slip = if v1 != 0.0 {
+                1.0 - surface(j) / v1
+            } else {
+                0.0
+            };
             po.wrap_angle = self.layout.wrap_of(j).map_or(0.0, |w| w.angle);
         }
         let e = self.sys.energy_offset();

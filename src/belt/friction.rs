@@ -120,7 +120,10 @@ mod tests {
         assert!((f.coefficient(0.3, -1.5e-4, ms, mk) + mk).abs() < 1e-12);
         assert!((f.coefficient(0.3, 1e-3, ms, mk) - mk).abs() < 1e-12);
         // independent of velocity
-        assert_eq!(f.coefficient(1e-9, 5e-5, ms, mk), f.coefficient(10.0, 5e-5, ms, mk));
+        assert_eq!(
+            f.coefficient(1e-9, 5e-5, ms, mk),
+            f.coefficient(10.0, 5e-5, ms, mk)
+        );
         // creep holds at its cap while pushed outward, unloads freely
         assert_eq!(f.creep_rate(0.1, 1.5e-4), 0.0);
         assert_eq!(f.creep_rate(-0.1, 1.5e-4), -0.1);

@@ -111,15 +111,24 @@ fn segments_cross(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
     o1 * o2 < 0.0 && o3 * o4 < 0.0
 }
 
+/// Spans and wraps of a belt path, in loop order.
+type BeltPath = (Vec<Span>, Vec<Wrap>);
+
 /// Spans and wrap angles for pulleys visited in `order`; `None` if the
 /// visiting order does not give a simple counterclockwise loop.
 fn path_for_order(
     params: &DriveParams,
     radii: &[f64],
     order: &[usize],
-) -> Result<Option<(Vec<Span>, Vec<Wrap>)>, ParamError> {
+) -> Result<Option<BeltPath>, ParamError> {
     let np = order.len();
-    let side = |j: usize| if params.pulleys[j].back_side { -1.0 } else { 1.0 };
+    let side = |j: usize| {
+        if params.pulleys[j].back_side {
+            -1.0
+        } else {
+            1.0
+        }
+    };
     let mut spans = Vec::with_capacity(np);
     for m in 0..np {
         let (a, b) = (order[m], order[(m + 1) % np]);
@@ -178,7 +187,10 @@ fn path_for_order(
 
 /// Spans and wraps for the pulleys in their listed belt order, taken
 /// either way round the loop.
-fn path_in_belt_order(params: &DriveParams, radii: &[f64]) -> Result<(Vec<Span>, Vec<Wrap>), ParamError> {
+fn path_in_belt_order(
+    params: &DriveParams,
+    radii: &[f64],
+) -> Result<(Vec<Span>, Vec<Wrap>), ParamError> {
     let np = params.pulleys.len();
     let forward: Vec<usize> = (0..np).collect();
     let backward: Vec<usize> = (0..np).rev().collect();
@@ -211,7 +223,8 @@ fn path_in_belt_order(params: &DriveParams, radii: &[f64]) -> Result<(Vec<Span>,
 fn check_spans(params: &DriveParams, spans: &[Span]) -> Result<(), ParamError> {
     for (m, s) in spans.iter().enumerate() {
         for (j, p) in params.pulleys.iter().enumerate() {
-            if j != s.from && j != s.to && dist_point_segment([p.x, p.y], s.start, s.end) < p.radius {
+            if j != s.from && j != s.to && dist_point_segment([p.x, p.y], s.start, s.end) < p.radius
+            {
                 return Err(param_error(
                     format!("pulley[{}].x", j + 1),
                     format!(
@@ -400,7 +413,10 @@ fn solve_body_length(
     let l = 0.5 * (lo + hi);
     let _ = bodies_on_path(params, spans, wraps, l);
     if !(l.is_finite() && l > 0.0) {
-        return Err(param_error("belt.nBodies", "no body length fits the belt path"));
+        return Err(param_error(
+            "belt.nBodies",
+            "no body length fits the belt path",
+        ));
     }
     Ok(l)
 }
@@ -419,8 +435,20 @@ struct EndPath {
 
 #[derive(Clone, Copy)]
 enum Segment {
-    Line { s0: f64, heading: f64, start: [f64; 2], dir: [f64; 2] },
-    Arc { s0: f64, len: f64, heading: f64, centre: [f64; 2], radius: f64, side: f64 },
+    Line {
+        s0: f64,
+        heading: f64,
+        start: [f64; 2],
+        dir: [f64; 2],
+    },
+    Arc {
+        s0: f64,
+        len: f64,
+        heading: f64,
+        centre: [f64; 2],
+        radius: f64,
+        side: f64,
+    },
 }
 
 impl EndPath {
@@ -430,7 +458,12 @@ impl EndPath {
         let mut segs = Vec::new();
         for (sp, w) in spans.iter().zip(wraps) {
             let dir = [sp.angle.cos(), sp.angle.sin()];
-            segs.push(Segment::Line { s0: s, heading, start: sp.start, dir });
+            segs.push(Segment::Line {
+                s0: s,
+                heading,
+                start: sp.start,
+                dir,
+            });
             s += sp.length;
             let p = &params.pulleys[w.pulley];
             let radius = radii[w.pulley];
@@ -461,14 +494,33 @@ impl EndPath {
             .max(1)
             - 1;
         match self.segs[k] {
-            Segment::Line { s0, heading, start, dir, .. } => {
+            Segment::Line {
+                s0,
+                heading,
+                start,
+                dir,
+                ..
+            } => {
                 let d = s - s0;
-                ([start[0] + d * dir[0], start[1] + d * dir[1]], heading + extra)
+                (
+                    [start[0] + d * dir[0], start[1] + d * dir[1]],
+                    heading + extra,
+                )
             }
-            Segment::Arc { s0, heading, centre, radius, side, len } => {
+            Segment::Arc {
+                s0,
+                heading,
+                centre,
+                radius,
+                side,
+                len,
+            } => {
                 let a = heading + side * (s - s0).min(len) / radius;
                 (
-                    [centre[0] + side * radius * a.sin(), centre[1] - side * radius * a.cos()],
+                    [
+                        centre[0] + side * radius * a.sin(),
+                        centre[1] - side * radius * a.cos(),
+                    ],
                     a + extra,
                 )
             }
@@ -513,7 +565,11 @@ impl EndPath {
 /// Places the bodies with end points on the end path, every body a chord of
 /// length l and every gap a chord carrying exactly the preload
 /// (gap = l T0 / EA), adjusting l so the chain closes. Returns (l, poses).
-fn place_bodies(params: &DriveParams, spans_wraps: impl Fn(f64) -> Result<(Vec<Span>, Vec<Wrap>, Vec<f64>), ParamError>, l_guess: f64) -> Result<(f64, Vec<BodyPose>), ParamError> {
+fn place_bodies(
+    params: &DriveParams,
+    spans_wraps: impl Fn(f64) -> Result<(Vec<Span>, Vec<Wrap>, Vec<f64>), ParamError>,
+    l_guess: f64,
+) -> Result<(f64, Vec<BodyPose>), ParamError> {
     let n = params.belt.n_bodies;
     let strain = params.belt.preload / params.belt.ea;
     let (spans, wraps, radii) = spans_wraps(l_guess)?;

@@ -380,7 +380,11 @@ impl BeltSystem {
                 let (rx, ry) = (x - pc.cx, yy - pc.cy);
                 rx * rx + ry * ry < pc.radius2
             });
-            y[o + 6] = if touching { y[o + 6].clamp(-cap, cap) } else { 0.0 };
+            y[o + 6] = if touching {
+                y[o + 6].clamp(-cap, cap)
+            } else {
+                0.0
+            };
         }
     }
 

@@ -391,7 +391,11 @@ impl DriveParams {
         if self.probe_body >= b.n_bodies {
             return Err(param_error(
                 "probe.body",
-                format!("must be in 1..={} (got {})", b.n_bodies, self.probe_body + 1),
+                format!(
+                    "must be in 1..={} (got {})",
+                    b.n_bodies,
+                    self.probe_body + 1
+                ),
             ));
         }
         let s = &self.solver;

@@ -143,9 +143,13 @@ impl Rkf45 {
         let mut sum = 0.0;
         for i in 0..y.len() {
             let y5 = y[i]
-                + h * (B5[0] * k1[i] + B5[2] * k3[i] + B5[3] * k4[i] + B5[4] * k5[i] + B5[5] * k6[i]);
-            let err = h
-                * (E[0] * k1[i] + E[2] * k3[i] + E[3] * k4[i] + E[4] * k5[i] + E[5] * k6[i]);
+                + h * (B5[0] * k1[i]
+                    + B5[2] * k3[i]
+                    + B5[3] * k4[i]
+                    + B5[4] * k5[i]
+                    + B5[5] * k6[i]);
+            let err =
+                h * (E[0] * k1[i] + E[2] * k3[i] + E[3] * k4[i] + E[4] * k5[i] + E[5] * k6[i]);
             let w = self.abs_tol + self.rel_tol * y[i].abs().max(y5.abs());
             let e = err / w;
             sum += e * e;
@@ -224,7 +228,11 @@ impl Rkf45 {
                 self.stats.steps += 1;
                 self.stats.last_step = h;
                 // A clipped last step does not shrink the carried step size.
-                self.h = if last { self.h.max(h * factor) } else { h * factor };
+                self.h = if last {
+                    self.h.max(h * factor)
+                } else {
+                    h * factor
+                };
             } else {
                 self.stats.rejected += 1;
                 self.h = h * factor;
@@ -276,7 +284,11 @@ mod tests {
             rk.advance(&Osc, &mut t, &mut y, t_end).unwrap();
             assert_eq!(t, t_end);
         }
-        assert!(rk.h > 0.01, "step size must survive the clipped steps: {}", rk.h);
+        assert!(
+            rk.h > 0.01,
+            "step size must survive the clipped steps: {}",
+            rk.h
+        );
     }
 
     #[test]

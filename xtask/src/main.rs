@@ -149,10 +149,15 @@ fn venv() -> Result<()> {
     }
     if !venv_python().exists() {
         let python = std::env::var("PYTHON").unwrap_or_else(|_| "python3".into());
-        run(Command::new(python).args(["-m", "venv", ".venv"]), "create .venv")?;
+        run(
+            Command::new(python).args(["-m", "venv", ".venv"]),
+            "create .venv",
+        )?;
     }
     run(
-        Command::new(venv_python()).args(["-m", "pip", "install", "--quiet", "-r"]).arg(&reqs),
+        Command::new(venv_python())
+            .args(["-m", "pip", "install", "--quiet", "-r"])
+            .arg(&reqs),
         "install the Python harness",
     )?;
     fs::write(stamp, text).map_err(|e| e.to_string())
@@ -162,18 +167,33 @@ fn main_job(args: &[String]) -> Result<()> {
     fmu()?;
     venv()?;
     run(
-        Command::new(venv_python()).arg("tests/python/run_default.py").args(args),
+        Command::new(venv_python())
+            .arg("tests/python/run_default.py")
+            .args(args),
         "simulate the default drive",
     )
 }
 
 fn test() -> Result<()> {
-    run(cargo().args(["fmt", "--all", "--", "--check"]), "cargo fmt --check")?;
     run(
-        cargo().args(["clippy", "--workspace", "--all-targets", "--", "-D", "warnings"]),
+        cargo().args(["fmt", "--all", "--", "--check"]),
+        "cargo fmt --check",
+    )?;
+    run(
+        cargo().args([
+            "clippy",
+            "--workspace",
+            "--all-targets",
+            "--",
+            "-D",
+            "warnings",
+        ]),
         "cargo clippy",
     )?;
-    run(cargo().args(["test", "--workspace", "--release"]), "cargo test")?;
+    run(
+        cargo().args(["test", "--workspace", "--release"]),
+        "cargo test",
+    )?;
     fmu()?;
     venv()?;
     run(
