@@ -95,7 +95,11 @@ struct Variable {
 /// Line (1-based) of a byte offset.
 fn line_of(xml: &str, pos: u64) -> usize {
     let end = usize::try_from(pos).unwrap_or(usize::MAX).min(xml.len());
-    xml.as_bytes()[..end].iter().filter(|&&b| b == b'\n').count() + 1
+    xml.as_bytes()[..end]
+        .iter()
+        .filter(|&&b| b == b'\n')
+        .count()
+        + 1
 }
 
 /// All attributes of an element as (name, unescaped value).
@@ -113,7 +117,12 @@ fn attributes(e: &BytesStart, line: usize) -> Result<HashMap<String, String>, St
     Ok(map)
 }
 
-fn required(attrs: &HashMap<String, String>, key: &str, elem: &str, line: usize) -> Result<String, String> {
+fn required(
+    attrs: &HashMap<String, String>,
+    key: &str,
+    elem: &str,
+    line: usize,
+) -> Result<String, String> {
     attrs
         .get(key)
         .cloned()
@@ -131,7 +140,10 @@ fn parse(xml: &str) -> Result<ModelDescription, String> {
     loop {
         let pos = reader.buffer_position();
         let event = reader.read_event().map_err(|e| {
-            format!("line {}: malformed XML: {e}", line_of(xml, reader.error_position()))
+            format!(
+                "line {}: malformed XML: {e}",
+                line_of(xml, reader.error_position())
+            )
         })?;
         let line = line_of(xml, pos);
         let (elem, is_empty) = match &event {
@@ -140,7 +152,9 @@ fn parse(xml: &str) -> Result<ModelDescription, String> {
             Event::End(_) => {
                 match stack.pop().as_deref() {
                     Some("ScalarVariable") => {
-                        let v = current.take().ok_or("internal: unbalanced ScalarVariable")?;
+                        let v = current
+                            .take()
+                            .ok_or("internal: unbalanced ScalarVariable")?;
                         finish_variable(&mut md, v)?;
                     }
                     Some("SimpleType") => current_type = None,
@@ -160,7 +174,11 @@ fn parse(xml: &str) -> Result<ModelDescription, String> {
                 md.fmi_version = required(&attrs, "fmiVersion", &name, line)?;
                 md.guid_attr = required(&attrs, "guid", &name, line)?;
             }
-            (None, other) => return Err(format!("line {line}: root element must be <fmiModelDescription>, found <{other}>")),
+            (None, other) => {
+                return Err(format!(
+                    "line {line}: root element must be <fmiModelDescription>, found <{other}>"
+                ))
+            }
             (Some("fmiModelDescription"), "CoSimulation") => {
                 md.model_identifier = Some(required(&attrs, "modelIdentifier", &name, line)?);
             }
@@ -177,12 +195,19 @@ fn parse(xml: &str) -> Result<ModelDescription, String> {
                 }
                 current_type = Some(t);
             }
-            (Some("SimpleType"), ty @ ("Real" | "Integer" | "Boolean" | "String" | "Enumeration")) => {
-                let t = current_type.clone().ok_or("internal: type outside SimpleType")?;
-                md.types.insert(t, (ty.to_string(), attrs.get("unit").cloned()));
+            (
+                Some("SimpleType"),
+                ty @ ("Real" | "Integer" | "Boolean" | "String" | "Enumeration"),
+            ) => {
+                let t = current_type
+                    .clone()
+                    .ok_or("internal: type outside SimpleType")?;
+                md.types
+                    .insert(t, (ty.to_string(), attrs.get("unit").cloned()));
             }
             (Some("LogCategories"), "Category") => {
-                md.log_categories.push((required(&attrs, "name", &name, line)?, line));
+                md.log_categories
+                    .push((required(&attrs, "name", &name, line)?, line));
             }
             (Some("ModelVariables"), "ScalarVariable") => {
                 let vr_text = required(&attrs, "valueReference", &name, line)?;
@@ -199,14 +224,25 @@ fn parse(xml: &str) -> Result<ModelDescription, String> {
                     ..Variable::default()
                 };
                 if is_empty {
-                    return Err(format!("line {line}: ScalarVariable \"{}\" has no type element", v.name));
+                    return Err(format!(
+                        "line {line}: ScalarVariable \"{}\" has no type element",
+                        v.name
+                    ));
                 }
                 current = Some(v);
             }
-            (Some("ScalarVariable"), ty @ ("Real" | "Integer" | "Boolean" | "String" | "Enumeration")) => {
-                let v = current.as_mut().ok_or("internal: type outside ScalarVariable")?;
+            (
+                Some("ScalarVariable"),
+                ty @ ("Real" | "Integer" | "Boolean" | "String" | "Enumeration"),
+            ) => {
+                let v = current
+                    .as_mut()
+                    .ok_or("internal: type outside ScalarVariable")?;
                 if !v.ty.is_empty() {
-                    return Err(format!("line {line}: ScalarVariable \"{}\" has more than one type element", v.name));
+                    return Err(format!(
+                        "line {line}: ScalarVariable \"{}\" has more than one type element",
+                        v.name
+                    ));
                 }
                 v.ty = ty.to_string();
                 v.declared_type = attrs.get("declaredType").cloned();
@@ -215,10 +251,9 @@ fn parse(xml: &str) -> Result<ModelDescription, String> {
             }
             (Some("Outputs"), "Unknown") | (Some("InitialUnknowns"), "Unknown") => {
                 let text = required(&attrs, "index", &name, line)?;
-                let index = text
-                    .trim()
-                    .parse()
-                    .map_err(|_| format!("line {line}: Unknown index \"{text}\" is not a number"))?;
+                let index = text.trim().parse().map_err(|_| {
+                    format!("line {line}: Unknown index \"{text}\" is not a number")
+                })?;
                 if parent == Some("Outputs") {
                     md.outputs.push((index, line));
                 } else {
@@ -239,7 +274,10 @@ fn parse(xml: &str) -> Result<ModelDescription, String> {
 
 fn finish_variable(md: &mut ModelDescription, v: Variable) -> Result<(), String> {
     if v.ty.is_empty() {
-        return Err(format!("line {}: ScalarVariable \"{}\" has no type element", v.line, v.name));
+        return Err(format!(
+            "line {}: ScalarVariable \"{}\" has no type element",
+            v.line, v.name
+        ));
     }
     md.variables.push(v);
     Ok(())
@@ -264,7 +302,10 @@ fn effective_initial(v: &Variable) -> Option<&str> {
 
 fn check(md: &ModelDescription) -> Result<(), String> {
     if md.fmi_version != "2.0" {
-        return Err(format!("fmiVersion must be \"2.0\", found \"{}\"", md.fmi_version));
+        return Err(format!(
+            "fmiVersion must be \"2.0\", found \"{}\"",
+            md.fmi_version
+        ));
     }
     if md.guid_attr != guid::GUID_PLACEHOLDER {
         return Err(format!(
@@ -285,7 +326,9 @@ fn check(md: &ModelDescription) -> Result<(), String> {
     for (t, (_, unit)) in &md.types {
         if let Some(u) = unit {
             if !md.units.contains_key(u) {
-                return Err(format!("SimpleType \"{t}\" uses unit \"{u}\" which is not in <UnitDefinitions>"));
+                return Err(format!(
+                    "SimpleType \"{t}\" uses unit \"{u}\" which is not in <UnitDefinitions>"
+                ));
             }
         }
     }
@@ -306,7 +349,10 @@ fn check(md: &ModelDescription) -> Result<(), String> {
         }
         let (variant, index) = variant_and_index(&v.name).map_err(at)?;
         if let Some(prev) = keys.insert((variant.clone(), index), v) {
-            return Err(at(format!("maps to Var::{variant} index {index} like \"{}\" on line {}", prev.name, prev.line)));
+            return Err(at(format!(
+                "maps to Var::{variant} index {index} like \"{}\" on line {}",
+                prev.name, prev.line
+            )));
         }
         if v.description.trim().is_empty() {
             return Err(at("has no description".into()));
@@ -321,10 +367,15 @@ fn check(md: &ModelDescription) -> Result<(), String> {
         let mut last = 0;
         for &(i, line) in list {
             if i == 0 || i > md.variables.len() {
-                return Err(format!("line {line}: {what} index {i} is outside 1..={}", md.variables.len()));
+                return Err(format!(
+                    "line {line}: {what} index {i} is outside 1..={}",
+                    md.variables.len()
+                ));
             }
             if i <= last {
-                return Err(format!("line {line}: {what} indices must be strictly ascending ({i} after {last})"));
+                return Err(format!(
+                    "line {line}: {what} indices must be strictly ascending ({i} after {last})"
+                ));
             }
             last = i;
         }
@@ -343,7 +394,8 @@ fn check(md: &ModelDescription) -> Result<(), String> {
     let expected: Vec<usize> = (1..=md.variables.len())
         .filter(|&i| {
             let v = &md.variables[i - 1];
-            (v.causality == "output" && matches!(effective_initial(v), Some("approx" | "calculated")))
+            (v.causality == "output"
+                && matches!(effective_initial(v), Some("approx" | "calculated")))
                 || v.causality == "calculatedParameter"
         })
         .collect();
@@ -357,10 +409,16 @@ fn check(md: &ModelDescription) -> Result<(), String> {
 
 fn check_variable(md: &ModelDescription, v: &Variable) -> Result<(), String> {
     let (c, var) = (v.causality.as_str(), v.variability.as_str());
-    if !matches!(c, "parameter" | "calculatedParameter" | "input" | "output" | "local" | "independent") {
+    if !matches!(
+        c,
+        "parameter" | "calculatedParameter" | "input" | "output" | "local" | "independent"
+    ) {
         return Err(format!("unknown causality \"{c}\""));
     }
-    if !matches!(var, "constant" | "fixed" | "tunable" | "discrete" | "continuous") {
+    if !matches!(
+        var,
+        "constant" | "fixed" | "tunable" | "discrete" | "continuous"
+    ) {
         return Err(format!("unknown variability \"{var}\""));
     }
     let legal = match c {
@@ -370,28 +428,41 @@ fn check_variable(md: &ModelDescription, v: &Variable) -> Result<(), String> {
         _ => true,
     };
     if !legal {
-        return Err(format!("causality=\"{c}\" with variability=\"{var}\" is not allowed (FMI 2.0 section 2.2.7)"));
+        return Err(format!(
+            "causality=\"{c}\" with variability=\"{var}\" is not allowed (FMI 2.0 section 2.2.7)"
+        ));
     }
     if !matches!(v.ty.as_str(), "Real" | "Integer" | "Boolean" | "String") {
-        return Err(format!("type <{}> is not supported (Real, Integer, Boolean, String)", v.ty));
+        return Err(format!(
+            "type <{}> is not supported (Real, Integer, Boolean, String)",
+            v.ty
+        ));
     }
     if var == "continuous" && v.ty != "Real" {
         return Err("only Real variables can be continuous".into());
     }
     match (c, v.initial.as_deref()) {
         (_, None) => {}
-        ("input" | "independent", Some(_)) => return Err(format!("causality=\"{c}\" must not have an initial attribute")),
+        ("input" | "independent", Some(_)) => {
+            return Err(format!(
+                "causality=\"{c}\" must not have an initial attribute"
+            ))
+        }
         (_, Some(i)) if !matches!(i, "exact" | "approx" | "calculated") => {
             return Err(format!("unknown initial \"{i}\""))
         }
-        ("parameter", Some(i)) if i != "exact" => return Err("a parameter must have initial=\"exact\"".into()),
+        ("parameter", Some(i)) if i != "exact" => {
+            return Err("a parameter must have initial=\"exact\"".into())
+        }
         _ => {}
     }
     let needs_start = c == "input" || matches!(effective_initial(v), Some("exact" | "approx"));
     match (&v.start, needs_start) {
         (None, true) => return Err("needs a start value (input, or initial exact/approx)".into()),
         (Some(_), false) => {
-            return Err("must not have a start value (initial=\"calculated\" or independent)".into())
+            return Err(
+                "must not have a start value (initial=\"calculated\" or independent)".into(),
+            )
         }
         (Some(s), true) => {
             start_literal(&v.ty, s)?;
@@ -405,7 +476,10 @@ fn check_variable(md: &ModelDescription, v: &Variable) -> Result<(), String> {
             .get(dt)
             .ok_or_else(|| format!("declaredType \"{dt}\" is not in <TypeDefinitions>"))?;
         if *ty != v.ty {
-            return Err(format!("declaredType \"{dt}\" is a {ty} type, the variable is {}", v.ty));
+            return Err(format!(
+                "declaredType \"{dt}\" is a {ty} type, the variable is {}",
+                v.ty
+            ));
         }
     } else if v.ty == "Real" {
         return Err("Real variables must use a declaredType from <TypeDefinitions>".into());
@@ -428,9 +502,9 @@ fn variant_and_index(name: &str) -> Result<(String, usize), String> {
                 let digits = part[open + 1..]
                     .strip_suffix(']')
                     .ok_or_else(|| format!("cannot parse array index in \"{part}\""))?;
-                let i: usize = digits
-                    .parse()
-                    .map_err(|_| format!("only single, 1-based array indices are supported (\"{part}\")"))?;
+                let i: usize = digits.parse().map_err(|_| {
+                    format!("only single, 1-based array indices are supported (\"{part}\")")
+                })?;
                 (&part[..open], Some(i))
             }
             None => (part, None),
@@ -438,7 +512,10 @@ fn variant_and_index(name: &str) -> Result<(String, usize), String> {
         let mut chars = base.chars();
         match chars.next() {
             Some(first) if first.is_ascii_alphabetic() || first == '_' => {
-                if !chars.clone().all(|ch| ch.is_ascii_alphanumeric() || ch == '_') {
+                if !chars
+                    .clone()
+                    .all(|ch| ch.is_ascii_alphanumeric() || ch == '_')
+                {
                     return Err(format!("name part \"{base}\" is not a plain identifier"));
                 }
                 variant.push(first.to_ascii_uppercase());
@@ -469,7 +546,10 @@ fn start_literal(ty: &str, s: &str) -> Result<String, String> {
             }
             format!("Start::Real({x:?})")
         }
-        "Integer" => format!("Start::Integer({})", s.trim().parse::<i32>().map_err(|_| bad())?),
+        "Integer" => format!(
+            "Start::Integer({})",
+            s.trim().parse::<i32>().map_err(|_| bad())?
+        ),
         "Boolean" => match s.trim() {
             "true" | "1" => "Start::Boolean(true)".into(),
             "false" | "0" => "Start::Boolean(false)".into(),
@@ -519,21 +599,45 @@ fn generate(md: &ModelDescription, guid: &str) -> Result<String, String> {
         }
     }
 
-    let _ = writeln!(w, "// @generated by build.rs from {XML_PATH}. Do not edit.\n");
-    let _ = writeln!(w, "/// `modelIdentifier` of the `<CoSimulation>` element (name of the binary).");
-    let _ = writeln!(w, "pub const MODEL_IDENTIFIER: &str = {model_identifier:?};");
+    let _ = writeln!(
+        w,
+        "// @generated by build.rs from {XML_PATH}. Do not edit.\n"
+    );
+    let _ = writeln!(
+        w,
+        "/// `modelIdentifier` of the `<CoSimulation>` element (name of the binary)."
+    );
+    let _ = writeln!(
+        w,
+        "pub const MODEL_IDENTIFIER: &str = {model_identifier:?};"
+    );
     let _ = writeln!(w, "/// GUID of this build's model description (hash of the XML, see `modelDescription/guid.rs`).");
     let _ = writeln!(w, "pub const GUID: &str = {guid:?};");
     let _ = writeln!(w, "/// Names of the `<LogCategories>`, in XML order.");
     let _ = writeln!(w, "pub static LOG_CATEGORIES: &[&str] = &{categories:?};\n");
 
-    let _ = writeln!(w, "/// One variant per variable base name: the name with its array index");
-    let _ = writeln!(w, "/// dropped, split on `.` and camel-cased (`pulley[3].hubForce.x` is");
+    let _ = writeln!(
+        w,
+        "/// One variant per variable base name: the name with its array index"
+    );
+    let _ = writeln!(
+        w,
+        "/// dropped, split on `.` and camel-cased (`pulley[3].hubForce.x` is"
+    );
     let _ = writeln!(w, "/// `PulleyHubForceX` with `VarInfo::index` 2).");
-    let _ = writeln!(w, "#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]\npub enum Var {{");
+    let _ = writeln!(
+        w,
+        "#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]\npub enum Var {{"
+    );
     for (variant, count, first) in &variants {
         let doc = if *count > 1 {
-            format!("`{}` ({} elements, index 0..{}): {}", first.name, count, count - 1, first.description)
+            format!(
+                "`{}` ({} elements, index 0..{}): {}",
+                first.name,
+                count,
+                count - 1,
+                first.description
+            )
         } else {
             format!("`{}`: {}", first.name, first.description)
         };
@@ -543,7 +647,10 @@ fn generate(md: &ModelDescription, guid: &str) -> Result<String, String> {
 
     let _ = writeln!(w, "{}", STATIC_TYPES);
 
-    let _ = writeln!(w, "/// Every ScalarVariable, in XML order (`VARIABLES[i]` has ModelStructure index `i + 1`).");
+    let _ = writeln!(
+        w,
+        "/// Every ScalarVariable, in XML order (`VARIABLES[i]` has ModelStructure index `i + 1`)."
+    );
     let _ = writeln!(w, "pub static VARIABLES: &[VarInfo] = &[");
     for v in &md.variables {
         let (variant, index) = variant_and_index(&v.name)?;
@@ -554,7 +661,12 @@ fn generate(md: &ModelDescription, guid: &str) -> Result<String, String> {
         let unit = v
             .unit
             .clone()
-            .or_else(|| v.declared_type.as_ref().and_then(|t| md.types.get(t)).and_then(|(_, u)| u.clone()))
+            .or_else(|| {
+                v.declared_type
+                    .as_ref()
+                    .and_then(|t| md.types.get(t))
+                    .and_then(|(_, u)| u.clone())
+            })
             .unwrap_or_default();
         let _ = writeln!(
             w,
@@ -569,17 +681,32 @@ fn generate(md: &ModelDescription, guid: &str) -> Result<String, String> {
     }
     let _ = writeln!(w, "];\n");
 
-    let by_vr: BTreeMap<u32, usize> = md.variables.iter().enumerate().map(|(i, v)| (v.vr, i)).collect();
-    let _ = writeln!(w, "/// (value reference, position in `VARIABLES`), sorted by value reference.");
+    let by_vr: BTreeMap<u32, usize> = md
+        .variables
+        .iter()
+        .enumerate()
+        .map(|(i, v)| (v.vr, i))
+        .collect();
+    let _ = writeln!(
+        w,
+        "/// (value reference, position in `VARIABLES`), sorted by value reference."
+    );
     let _ = writeln!(w, "static BY_VR: &[(u32, usize)] = &[");
     for (vr, i) in &by_vr {
         let _ = writeln!(w, "    ({vr}, {i}),");
     }
     let _ = writeln!(w, "];\n");
 
-    let by_name: BTreeMap<&str, usize> =
-        md.variables.iter().enumerate().map(|(i, v)| (v.name.as_str(), i)).collect();
-    let _ = writeln!(w, "/// (name, position in `VARIABLES`), sorted by name (byte order).");
+    let by_name: BTreeMap<&str, usize> = md
+        .variables
+        .iter()
+        .enumerate()
+        .map(|(i, v)| (v.name.as_str(), i))
+        .collect();
+    let _ = writeln!(
+        w,
+        "/// (name, position in `VARIABLES`), sorted by name (byte order)."
+    );
     let _ = writeln!(w, "static BY_NAME: &[(&str, usize)] = &[");
     for (name, i) in &by_name {
         let _ = writeln!(w, "    ({name:?}, {i}),");

@@ -371,7 +371,10 @@ impl FmuModel for BeltDrive {
             ));
         }
         if !value.is_finite() {
-            return Err(format!("{}: derivative must be finite (got {value})", v.name));
+            return Err(format!(
+                "{}: derivative must be finite (got {value})",
+                v.name
+            ));
         }
         match v.var {
             Var::PulleyTorque => self.inputs.torque_rate[v.index] = value,
@@ -457,7 +460,9 @@ mod snapshot {
         fn f64s(&mut self, expect: usize) -> Result<Vec<f64>, String> {
             let n = self.u64()?;
             if n != expect as u64 {
-                return Err(format!("model state holds {n} values where {expect} belong"));
+                return Err(format!(
+                    "model state holds {n} values where {expect} belong"
+                ));
             }
             (0..expect).map(|_| self.f64()).collect()
         }
@@ -467,7 +472,12 @@ mod snapshot {
     fn parameters() -> impl Iterator<Item = &'static VarInfo> {
         VARIABLES
             .iter()
-            .filter(|v| matches!(v.start, Start::Real(_) | Start::Integer(_) | Start::Boolean(_)))
+            .filter(|v| {
+                matches!(
+                    v.start,
+                    Start::Real(_) | Start::Integer(_) | Start::Boolean(_)
+                )
+            })
             .filter(|v| !matches!(v.var, Var::PulleyTorque | Var::PulleyOmegaRef))
     }
 
