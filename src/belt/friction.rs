@@ -125,8 +125,9 @@ mod tests {
             f.coefficient(10.0, 5e-5, ms, mk)
         );
         // creep holds at its cap while pushed outward, unloads freely
-        assert_eq!(f.creep_rate(0.1, 1.5e-4), 0.0);
-        assert_eq!(f.creep_rate(-0.1, 1.5e-4), -0.1);
+        let cap = f.creep_cap();
+        assert_eq!(f.creep_rate(0.1, cap), 0.0);
+        assert_eq!(f.creep_rate(-0.1, cap), -0.1);
         assert_eq!(f.creep_rate(0.1, 1e-4), 0.1);
     }
 
