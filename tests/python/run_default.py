@@ -25,8 +25,8 @@ def main():
     ap.add_argument("--step", type=float, default=None)
     args = ap.parse_args()
     md = read_model_description(str(FMU))
-    stop = args.stop_time or md.defaultExperiment.stopTime
-    step = args.step or md.defaultExperiment.stepSize
+    stop = float(args.stop_time or md.defaultExperiment.stopTime)
+    step = float(args.step or md.defaultExperiment.stepSize)
     t0 = time.perf_counter()
     res = simulate_fmu(str(FMU), stop_time=stop, output_interval=step, output=OUTPUTS)
     wall = time.perf_counter() - t0

@@ -164,6 +164,8 @@ fn venv() -> Result<()> {
 }
 
 fn main_job(args: &[String]) -> Result<()> {
+    // `cargo xtask run -- --stop-time 0.5`: drop the separator.
+    let args = args.strip_prefix(&["--".to_string()]).unwrap_or(args);
     fmu()?;
     venv()?;
     run(
