@@ -11,6 +11,7 @@
 //! clockwise (s = -1). A belt point on pulley j with travel direction t is
 //! `c_j - s_j r_j n(t)`, n(t) the left normal of t.
 
+use super::model::wrap_angle;
 use super::params::{param_error, DriveParams, ParamError};
 use std::f64::consts::TAU;
 
@@ -411,7 +412,8 @@ fn solve_body_length(
         }
     }
     let l = 0.5 * (lo + hi);
-    let _ = bodies_on_path(params, spans, wraps, l);
+    // Leave every wrap's penetration and pitch set for the final l.
+    bodies_on_path(params, spans, wraps, l);
     if !(l.is_finite() && l > 0.0) {
         return Err(param_error(
             "belt.nBodies",
@@ -600,7 +602,7 @@ fn place_bodies(
             BodyPose {
                 x: 0.5 * (pa[0] + pb[0]),
                 y: 0.5 * (pa[1] + pb[1]),
-                phi: h + d - TAU * (d / TAU).round(),
+                phi: h + wrap_angle(d),
             }
         })
         .collect();

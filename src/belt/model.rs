@@ -97,8 +97,9 @@ pub struct BeltSystem {
     pub inputs: Inputs,
 }
 
+/// Angle wrapped to [-pi, pi].
 #[inline(always)]
-fn wrap_angle(a: f64) -> f64 {
+pub(crate) fn wrap_angle(a: f64) -> f64 {
     a - TAU * (a * (1.0 / TAU)).round()
 }
 
