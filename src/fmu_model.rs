@@ -196,6 +196,7 @@ impl BeltDrive {
             Var::ProbeFrictionForce => o.probe.friction_force[j],
             Var::ProbeSlipVelocity => o.probe.slip_velocity[j],
             Var::SpanTension => o.span_tension[j],
+            Var::SpanSlip => o.span_slip[j],
             Var::BeltMinTension => o.min_tension,
             Var::BeltMaxTension => o.max_tension,
             Var::ProbeSdeForce => o.probe.sde_force,

@@ -52,6 +52,9 @@ pub struct Outputs {
     pub pulleys: [PulleyOutputs; MAX_PULLEYS],
     /// Tension of the middle SDE of the free span from pulley k to k+1.
     pub span_tension: [f64; MAX_PULLEYS],
+    /// Slip across span k: 1 - v_{k+1} / v_k, surface speeds of consecutive
+    /// pulleys (the last span closes the loop back to pulley 1).
+    pub span_slip: [f64; MAX_PULLEYS],
     pub min_tension: f64,
     pub max_tension: f64,
     pub probe: ProbeOutputs,
@@ -301,6 +304,12 @@ impl Drive {
                 0.0
             };
             po.wrap_angle = self.layout.wrap_of(j).map_or(0.0, |w| w.angle);
+            let v = surface(j);
+            out.span_slip[j] = if v != 0.0 {
+                1.0 - surface((j + 1) % np) / v
+            } else {
+                0.0
+            };
         }
         let e = self.sys.energy_offset();
         out.energy_input = self.y[e];

@@ -136,6 +136,14 @@ def test_simulate_default_drive_short(fmu_path, md):
     assert res["pulley[2].omega"][-1] < 0
     assert 400 < res["span[1].tension"][0] < 700
     assert res["span[1].tension"][-1] > res["span[2].tension"][-1]  # span 1 tight
+    # Slip across consecutive pulleys, from surface speeds v_j = r_j omega_j:
+    # span 1 runs from pulley 1 to 2, span 2 closes the loop from 2 to 1.
+    r = 0.027
+    v1, v2 = r * res["pulley[1].omega"][-1], r * res["pulley[2].omega"][-1]
+    assert res["span[1].slip"][-1] == pytest.approx(1 - v2 / v1, rel=1e-9, abs=1e-12)
+    assert res["span[2].slip"][-1] == pytest.approx(1 - v1 / v2, rel=1e-9, abs=1e-12)
+    assert res["span[1].slip"][-1] == pytest.approx(res["pulley[2].slip"][-1], rel=1e-9, abs=1e-12)
+    assert np.all(res["span[3].slip"] == 0.0)  # no third pulley
 
 
 def run_coupled(h, steps, external_load):
