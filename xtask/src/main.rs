@@ -1,10 +1,15 @@
-//! Project tasks: `cargo xtask <fmu|venv|run|test>`.
+//! Project tasks: `cargo xtask <fmu|venv|run|validate|test>`.
 //!
 //! * `fmu`  - release build, then `dist/BeltDrive.fmu` (model description with
 //!   its GUID, the Linux binary, generated documentation).
 //! * `venv` - `.venv` with the Python test harness (FMPy, pytest, ...).
 //! * `run`  - the main job: build the FMU and simulate the paper's drive with
 //!   it through FMPy (headline figures + `dist/default_drive.png`).
+//! * `validate` - the validation report: both paper drives, the closed-form
+//!   panel and the convergence studies through the built FMU
+//!   (`validation/validate.py`; plots in `docs/validation/`, tables in
+//!   `docs/validation.md` and `docs/model.md`). Arguments after `--` go to
+//!   the script (`--quick --out DIR`, `--method`, `--dv`, `--jobs`, ...).
 //! * `test` - everything CI runs: fmt, clippy, cargo tests, FMU, pytest.
 
 mod docs;
@@ -132,6 +137,18 @@ fn main_job(args: &[String]) -> Result<()> {
     )
 }
 
+fn validate(args: &[String]) -> Result<()> {
+    let args = args.strip_prefix(&["--".to_string()]).unwrap_or(args);
+    fmu()?;
+    venv()?;
+    run(
+        Command::new(venv_python())
+            .arg("validation/validate.py")
+            .args(args),
+        "validation report",
+    )
+}
+
 fn test() -> Result<()> {
     run(
         cargo().args(["fmt", "--all", "--", "--check"]),
@@ -166,8 +183,9 @@ fn main() {
         Some("fmu") => fmu().map(|_| ()),
         Some("venv") => venv(),
         Some("run") => main_job(&args[1..]),
+        Some("validate") => validate(&args[1..]),
         Some("test") => test(),
-        _ => Err("usage: cargo xtask <fmu|venv|run|test>".into()),
+        _ => Err("usage: cargo xtask <fmu|venv|run|validate|test>".into()),
     };
     if let Err(e) = result {
         eprintln!("xtask: {e}");
