@@ -22,10 +22,10 @@ PLOTS = ["s3_driven_speed.png", "s4_fig14_speeds.png", "s4_fig15_sde_force.png",
 @pytest.fixture(scope="module")
 def report(fmu_path, tmp_path_factory):
     out = tmp_path_factory.mktemp("validation")
-    # kubas2014 at dv = 0.1 m/s keeps the smoke run cheap; a private cache so
-    # the test really simulates.
+    # kubas2014 at dv = 0.1 (section 4) and 0.01 m/s (section 3) keeps the
+    # smoke run cheap; a private cache so the test really simulates.
     validate.CACHE = out / "cache"
-    an = validate.main(["--quick", "--out", str(out), "--dv", "0.1", "--jobs", "2"])
+    an = validate.main(["--quick", "--out", str(out), "--dv", "0.1", "--dv-s3", "0.01", "--jobs", "2"])
     return out, an
 
 
