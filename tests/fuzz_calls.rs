@@ -175,7 +175,7 @@ impl<'a> Fuzzer<'a> {
         if of_type.is_empty() {
             return self.rng.pick(VARIABLES);
         }
-        self.rng.pick(&of_type)
+        of_type[self.rng.below(of_type.len())]
     }
 
     /// A value reference: mostly of type `ty`, sometimes of another type,
