@@ -332,6 +332,17 @@ impl<'a> Instance<'a> {
         i
     }
 
+    /// fmi2SetDebugLogging(true, categories): exactly these categories on.
+    pub fn log_categories(&self, categories: &[&str]) {
+        let names: Vec<CString> = categories
+            .iter()
+            .map(|c| CString::new(*c).unwrap())
+            .collect();
+        let ptrs: Vec<*const c_char> = names.iter().map(|c| c.as_ptr()).collect();
+        let s = unsafe { (self.fmi.set_debug_logging)(self.c, 1, ptrs.len(), ptrs.as_ptr()) };
+        assert_eq!(s, OK, "{:?}", self.log.borrow());
+    }
+
     pub fn set_real(&self, name: &str, x: f64) -> c_int {
         unsafe { (self.fmi.set_real)(self.c, &vr(name), 1, &x) }
     }
