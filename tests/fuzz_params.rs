@@ -141,6 +141,9 @@ fn scenarios() -> Vec<(&'static str, Vec<(&'static str, Value)>)> {
         ("huge EA", vec![("belt.EA", Real(1e300))]),
         ("huge contact stiffness", vec![("contact.c1", Real(1e300))]),
         ("tiny mass", vec![("belt.massPerLength", Real(1e-300))]),
+        // Found by this fuzzer: was "belt.nBodies: no body length fits".
+        ("pulley 1e300 m away", vec![("pulley[2].y", Real(1e300))]),
+        ("huge pulley", vec![("pulley[2].radius", Real(1e300))]),
     ]
 }
 

@@ -312,6 +312,9 @@ pub(crate) fn param_error(parameter: impl Into<String>, message: impl Into<Strin
 /// 1200 6.6 s, 2400 83 s), and so does the cost per simulated second.
 pub const MAX_BODIES: usize = 2_000;
 
+/// Largest pulley coordinate accepted [m].
+pub const MAX_COORDINATE: f64 = 1000.0;
+
 fn check(ok: bool, name: &str, what: &str, value: f64) -> Result<(), ParamError> {
     if ok {
         Ok(())
@@ -414,8 +417,12 @@ impl DriveParams {
         }
         for (j, p) in self.pulleys.iter().enumerate() {
             let n = |field: &str| format!("pulley[{}].{field}", j + 1);
-            finite(&n("x"), p.x)?;
-            finite(&n("y"), p.y)?;
+            // Coordinates far beyond any drive make the layout's path
+            // lengths overflow; refuse them by name.
+            let near = |v: f64| v.is_finite() && v.abs() <= MAX_COORDINATE;
+            let within = format!("finite and within +-{MAX_COORDINATE} m");
+            check(near(p.x), &n("x"), &within, p.x)?;
+            check(near(p.y), &n("y"), &within, p.y)?;
             positive(&n("radius"), p.radius)?;
             positive(&n("inertia"), p.inertia)?;
             non_negative(&n("muStatic"), p.mu_static)?;
