@@ -74,6 +74,48 @@ impl Jacobian {
         }
     }
 
+    /// Visits every stored number (for saving and restoring a Jacobian that
+    /// is kept across steps, so a restored run continues bit-identically).
+    fn visit(&mut self, f: &mut impl FnMut(&mut f64)) {
+        for b in &mut self.bodies {
+            for m in b.aq.iter_mut().chain(b.av.iter_mut()) {
+                m.iter_mut().for_each(&mut *f);
+            }
+            b.az.iter_mut().for_each(&mut *f);
+            for v in &mut b.aw {
+                v.iter_mut().for_each(&mut *f);
+            }
+            b.gq.iter_mut().chain(b.gv.iter_mut()).for_each(&mut *f);
+            b.gw.iter_mut().chain(b.pz.iter_mut()).for_each(&mut *f);
+            for v in b.pq.iter_mut().chain(b.pv.iter_mut()) {
+                v.iter_mut().for_each(&mut *f);
+            }
+            let mut touching = f64::from(b.touching);
+            f(&mut touching);
+            b.touching = touching as u8;
+        }
+        self.pw.iter_mut().flatten().for_each(f);
+    }
+
+    /// Appends the stored numbers to `out`.
+    pub fn save(&self, out: &mut Vec<f64>) {
+        let mut copy = self.clone();
+        copy.visit(&mut |x| out.push(*x));
+    }
+
+    /// Reads what [`save`](Self::save) wrote; false if `src` has the wrong
+    /// length or holds a non-finite number (nothing is changed then).
+    pub fn load(&mut self, src: &[f64]) -> bool {
+        let mut len = 0;
+        self.clone().visit(&mut |_| len += 1);
+        if src.len() != len || !src.iter().all(|x| x.is_finite()) {
+            return false;
+        }
+        let mut it = src.iter();
+        self.visit(&mut |x| *x = *it.next().expect("length checked"));
+        true
+    }
+
     /// The Jacobian as a dense matrix (row-major, `dim x dim`), for tests.
     pub fn to_dense(&self, sys: &BeltSystem) -> Vec<f64> {
         let n = sys.n;

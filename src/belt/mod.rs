@@ -12,6 +12,7 @@
 pub mod contact;
 pub mod drive;
 pub mod friction;
+pub mod iteration_matrix;
 pub mod jacobian;
 pub mod layout;
 pub mod model;

@@ -30,7 +30,16 @@ pub trait StiffSystem: OdeSystem {
     /// Factors `I - c J`; false if it is singular.
     fn factor(&self, jac: &Self::Jacobian, c: f64, m: &mut Self::Matrix) -> bool;
     /// Overwrites `b` with the solution x of `(I - c J) x = b`.
-    fn solve(&self, jac: &Self::Jacobian, m: &Self::Matrix, b: &mut [f64]);
+    fn solve(&self, jac: &Self::Jacobian, m: &mut Self::Matrix, b: &mut [f64]);
+    /// Which components enter the error norm (1) and which not (0): those
+    /// that only carry the fast modes the method is meant to damp.
+    fn error_mask(&self, mask: &mut [f64]) {
+        mask.fill(1.0);
+    }
+    /// Appends the Jacobian's numbers to `out` / reads them back (false if
+    /// they do not fit), for saved states.
+    fn save_jacobian(&self, jac: &Self::Jacobian, out: &mut Vec<f64>);
+    fn load_jacobian(&self, jac: &mut Self::Jacobian, src: &[f64]) -> bool;
 }
 
 const S: usize = 4;
@@ -139,15 +148,21 @@ const fn transformed() -> Transformed {
 
 const T: Transformed = transformed();
 
-/// How long a Jacobian is kept: it is re-evaluated after this many accepted
-/// steps, after a rejected step, and at the first step after a restore.
-pub const JACOBIAN_MAX_AGE: u32 = 1;
+/// How long a Jacobian is kept by default: it is re-evaluated after this
+/// many accepted steps, after a rejected step, and after a restore.
+pub const JACOBIAN_MAX_AGE: u32 = 2;
+
+/// Step-size increases below this factor are not taken, so the factored
+/// iteration matrix (which depends on h) can be reused.
+const KEEP_STEP_BELOW: f64 = 1.25;
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Rosenbrock<Sys: StiffSystem> {
     pub rel_tol: f64,
     pub abs_tol: f64,
     pub max_steps: u64,
+    /// Accepted steps a Jacobian is used for (1 = a fresh one every step).
+    pub jacobian_max_age: u32,
     /// Step size proposed for the next step.
     pub h: f64,
     pub stats: Stats,
@@ -164,15 +179,23 @@ pub struct Rosenbrock<Sys: StiffSystem> {
     f: Vec<f64>,
     stage: Vec<f64>,
     backup: Vec<f64>,
+    mask: Vec<f64>,
+    controlled: usize,
 }
 
 impl<Sys: StiffSystem> Rosenbrock<Sys> {
     pub fn new(sys: &Sys, rel_tol: f64, abs_tol: f64, h0: f64, max_steps: u64) -> Self {
         let dim = sys.dim();
+        let mut mask = vec![1.0; dim];
+        sys.error_mask(&mut mask);
+        let controlled = mask.iter().filter(|&&m| m != 0.0).count().max(1);
         Self {
+            mask,
+            controlled,
             rel_tol,
             abs_tol,
             max_steps,
+            jacobian_max_age: JACOBIAN_MAX_AGE,
             h: h0,
             stats: Stats::default(),
             jacobians: 0,
@@ -192,6 +215,55 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
     pub fn invalidate(&mut self) {
         self.jac_age = None;
         self.factored_c = None;
+    }
+
+    /// What must be saved besides state, step size and counters for a
+    /// restored run to continue bit-identically: Jacobian evaluations and
+    /// factorizations, the kept Jacobian, its age, and the factored `c`.
+    pub fn save(&self, sys: &Sys, out: &mut Vec<f64>) {
+        out.push(self.jacobians as f64);
+        out.push(self.factorizations as f64);
+        match self.jac_age {
+            None => out.push(-1.0),
+            Some(age) => {
+                out.push(f64::from(age));
+                out.push(self.factored_c.unwrap_or(-1.0));
+                sys.save_jacobian(&self.jac, out);
+            }
+        }
+    }
+
+    /// Reads what [`save`](Self::save) wrote; false (and a fresh Jacobian
+    /// at the next step) if it does not fit this system.
+    pub fn load(&mut self, sys: &Sys, src: &[f64]) -> bool {
+        self.invalidate();
+        let [jacobians, factorizations, age, rest @ ..] = src else {
+            return false;
+        };
+        let count = |x: f64| (x >= 0.0 && x.fract() == 0.0 && x < 9e15).then_some(x as u64);
+        let (Some(jacobians), Some(factorizations)) = (count(*jacobians), count(*factorizations))
+        else {
+            return false;
+        };
+        self.jacobians = jacobians;
+        self.factorizations = factorizations;
+        if *age < 0.0 {
+            return rest.is_empty();
+        }
+        let Some(age) = count(*age).and_then(|a| u32::try_from(a).ok()) else {
+            return false;
+        };
+        let [c, jac @ ..] = rest else {
+            return false;
+        };
+        if !sys.load_jacobian(&mut self.jac, jac) {
+            return false;
+        }
+        self.jac_age = Some(age);
+        if *c > 0.0 && sys.factor(&self.jac, *c, &mut self.mat) {
+            self.factored_c = Some(*c);
+        }
+        true
     }
 
     /// One trial step of size h from (t, y): the new state goes to
@@ -239,7 +311,7 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
                 }
                 ui[k] = c * r;
             }
-            sys.solve(&self.jac, &self.mat, ui);
+            sys.solve(&self.jac, &mut self.mat, ui);
         }
         let mut sum = 0.0;
         for k in 0..n {
@@ -250,11 +322,11 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
                 err += T.e[i] * self.u[i][k];
             }
             let w = self.abs_tol + self.rel_tol * y[k].abs().max(y1.abs());
-            let e = err / w;
+            let e = self.mask[k] * err / w;
             sum += e * e;
             self.stage[k] = y1;
         }
-        (sum / n as f64).sqrt()
+        (sum / self.controlled as f64).sqrt()
     }
 
     /// Integrates `y` from `*t` to exactly `t_end`. On failure `y` and `*t`
@@ -326,13 +398,19 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
                 steps += 1;
                 self.stats.steps += 1;
                 self.stats.last_step = h;
+                // Small increases are skipped to keep the factorization.
+                let factor = if (1.0..KEEP_STEP_BELOW).contains(&factor) {
+                    1.0
+                } else {
+                    factor
+                };
                 self.h = if last {
                     self.h.max(h * factor)
                 } else {
                     h * factor
                 };
                 let age = self.jac_age.map_or(0, |a| a + 1);
-                self.jac_age = (age < JACOBIAN_MAX_AGE).then_some(age);
+                self.jac_age = (age < self.jacobian_max_age).then_some(age);
             } else {
                 self.stats.rejected += 1;
                 self.h = h * factor;
@@ -404,7 +482,14 @@ mod tests {
             }
             true
         }
-        fn solve(&self, _jac: &Vec<f64>, m: &Vec<f64>, b: &mut [f64]) {
+        fn save_jacobian(&self, jac: &Vec<f64>, out: &mut Vec<f64>) {
+            out.extend_from_slice(jac);
+        }
+        fn load_jacobian(&self, jac: &mut Vec<f64>, src: &[f64]) -> bool {
+            jac.copy_from_slice(src);
+            true
+        }
+        fn solve(&self, _jac: &Vec<f64>, m: &mut Vec<f64>, b: &mut [f64]) {
             // Gaussian elimination with partial pivoting on a copy.
             let n = self.n;
             let mut a = m.clone();
