@@ -101,3 +101,43 @@ fn restore_continues_bit_identically() {
     let mut c = belt_drive::belt::Drive::mounted(&p, 0.0).unwrap();
     assert!(!c.restore(t, &y, inputs, h, stats, &data[..data.len() - 1]));
 }
+
+/// The paper's friction law (eq. 12-19) at dv = 1e-2 m/s: the stiff
+/// method reproduces RKF45's steady slip and span tensions.
+#[test]
+fn kubas2014_law_same_steady_state_as_rkf45() {
+    let base = || {
+        let mut p = speed_driven(small_drive(FrictionLaw::Kubas2014), -20.0, 0.5);
+        p.friction.dv = 1e-2;
+        p.belt.n_bodies = 60;
+        p
+    };
+    let run = |p: DriveParams| {
+        let mut d = drive(&p);
+        let a = run_and_average(&mut d, 0.2, 0.35, 1e-3);
+        (a, d.stats())
+    };
+    let ((reference, rk), (stiff, ros)) = std::thread::scope(|s| {
+        let h = s.spawn(|| run(with_method(base(), Method::Rkf45, 1e-6)));
+        let stiff = run(with_method(base(), Method::Rosenbrock, 1e-5));
+        (h.join().expect("reference run"), stiff)
+    });
+    let slip = |a: &Averages| 1.0 - a.omega[1] / a.omega[0];
+    println!(
+        "kubas2014 dv 1e-2: RKF45 slip {:.6} tight {:.3} slack {:.3} ({} steps); ROS34PW2 slip {:.6} tight {:.3} slack {:.3} ({} steps)",
+        slip(&reference),
+        reference.span_tension[0],
+        reference.span_tension[1],
+        rk.steps,
+        slip(&stiff),
+        stiff.span_tension[0],
+        stiff.span_tension[1],
+        ros.steps
+    );
+    for k in 0..2 {
+        let (a, b) = (stiff.span_tension[k], reference.span_tension[k]);
+        assert!((a - b).abs() < 0.005 * b, "span {k}: {a} N vs {b} N");
+    }
+    let (s1, s0) = (slip(&stiff), slip(&reference));
+    assert!((s1 - s0).abs() < 0.02 * s0, "slip {s1} vs {s0}");
+}
