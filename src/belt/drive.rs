@@ -53,6 +53,9 @@ impl StiffSystem for BeltSystem {
     /// |v_T| < dv lands on the sliding branch, whose linearisation has no
     /// friction slope: the velocities stay controlled.
     fn error_mask(&self, mask: &mut [f64]) {
+        // Not left out altogether: at 1/1000 weight a step that goes unstable
+        // in these components is still rejected.
+        const LOOSE: f64 = 1e-3;
         mask.fill(1.0);
         let free: &[usize] = match self.friction.law {
             super::params::FrictionLaw::Creep => &[2, 3, 4, 5],
@@ -61,7 +64,7 @@ impl StiffSystem for BeltSystem {
         for i in 0..self.n {
             let o = BODY_DOF * i;
             for &k in free {
-                mask[o + k] = 0.0;
+                mask[o + k] = LOOSE;
             }
         }
     }
