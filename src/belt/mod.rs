@@ -7,6 +7,7 @@
 //! * [`friction`]: the two friction laws, eq. 12-19 and ref. [11];
 //! * [`model`]: equations of motion, eq. 20-24 (the right-hand side);
 //! * [`rkf45`]: the adaptive Runge-Kutta-Fehlberg 4(5) integrator;
+//! * [`trig`]: branch-free sine, cosine and angle wrap for the vectorised loops;
 //! * [`drive`]: a drive that runs, with its outputs.
 
 pub mod contact;
@@ -16,6 +17,7 @@ pub mod layout;
 pub mod model;
 pub mod params;
 pub mod rkf45;
+pub mod trig;
 
 pub use drive::{Drive, Outputs};
 pub use model::Inputs;
