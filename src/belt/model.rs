@@ -10,7 +10,7 @@
 use super::contact::ContactLaw;
 use super::friction::Friction;
 use super::layout::Layout;
-use super::params::{DriveParams, MAX_PULLEYS};
+use super::params::{DriveParams, FrictionLaw, MAX_PULLEYS};
 use super::trig;
 use std::sync::{Mutex, TryLockError};
 
@@ -126,11 +126,43 @@ struct Block {
     torque_cur: [f64; BLOCK + 1],
     torque_prev: [f64; BLOCK + 1],
     diss: [f64; BLOCK + 1],
-    // body j = 0..len (body i0 + j): own forces, creep rate, pulleys touched
+    // body j = 0..len (body i0 + j): own forces, creep rate, contact test
     ofx: [f64; BLOCK],
     ofy: [f64; BLOCK],
     dz: [f64; BLOCK],
-    touch: [u64; BLOCK],
+    /// min over pulleys of d^2 - r^2 (negative: inside a pulley)
+    margin: [f64; BLOCK],
+    contacts: Contacts,
+}
+
+/// Contacts evaluated per batch.
+const CONTACTS: usize = 64;
+
+/// A batch of body-pulley contacts of a block, structure of arrays.
+#[derive(Clone)]
+struct Contacts {
+    // inputs: block body index, pulley, centre relative to the pulley,
+    // velocity, creep, radius, pulley surface speed, friction coefficients
+    body: [u32; CONTACTS],
+    pulley: [u32; CONTACTS],
+    rx: [f64; CONTACTS],
+    ry: [f64; CONTACTS],
+    vx: [f64; CONTACTS],
+    vy: [f64; CONTACTS],
+    z: [f64; CONTACTS],
+    radius: [f64; CONTACTS],
+    surface: [f64; CONTACTS],
+    mu_s: [f64; CONTACTS],
+    mu_k: [f64; CONTACTS],
+    // results: force on the body, creep rate, power, recorded values
+    fx: [f64; CONTACTS],
+    fy: [f64; CONTACTS],
+    dz: [f64; CONTACTS],
+    diss: [f64; CONTACTS],
+    normal: [f64; CONTACTS],
+    f: [f64; CONTACTS],
+    v_t: [f64; CONTACTS],
+    p: [f64; CONTACTS],
 }
 
 impl Block {
@@ -152,7 +184,28 @@ impl Block {
             ofx: [0.0; BLOCK],
             ofy: [0.0; BLOCK],
             dz: [0.0; BLOCK],
-            touch: [0; BLOCK],
+            margin: [0.0; BLOCK],
+            contacts: Contacts {
+                body: [0; CONTACTS],
+                pulley: [0; CONTACTS],
+                rx: [0.0; CONTACTS],
+                ry: [0.0; CONTACTS],
+                vx: [0.0; CONTACTS],
+                vy: [0.0; CONTACTS],
+                z: [0.0; CONTACTS],
+                radius: [0.0; CONTACTS],
+                surface: [0.0; CONTACTS],
+                mu_s: [0.0; CONTACTS],
+                mu_k: [0.0; CONTACTS],
+                fx: [0.0; CONTACTS],
+                fy: [0.0; CONTACTS],
+                dz: [0.0; CONTACTS],
+                diss: [0.0; CONTACTS],
+                normal: [0.0; CONTACTS],
+                f: [0.0; CONTACTS],
+                v_t: [0.0; CONTACTS],
+                p: [0.0; CONTACTS],
+            },
         }
     }
 
@@ -565,61 +618,53 @@ impl BeltSystem {
             b.ofx[j] = 0.0;
             b.ofy[j] = -weight;
             b.dz[j] = 0.0;
-            b.touch[j] = 0;
+            b.margin[j] = f64::INFINITY;
         }
-        for (q, pc) in self.pulleys[..self.np].iter().enumerate() {
+        // margin < 0 exactly when some d^2 < r^2 (a - b < 0 iff a < b)
+        for pc in &self.pulleys[..self.np] {
             for j in 0..len {
                 let (rx, ry) = (b.x[j + 1] - pc.cx, b.y[j + 1] - pc.cy);
-                let inside = rx * rx + ry * ry < pc.radius2;
-                b.touch[j] |= (inside as u64) << q;
+                let v = rx * rx + ry * ry - pc.radius2;
+                b.margin[j] = if v < b.margin[j] { v } else { b.margin[j] };
             }
         }
+        // Bodies inside a pulley are collected (in body, then pulley
+        // order) and evaluated in batches by a loop that vectorises.
         let zone = &self.zone_factor[i0..i0 + len];
         let bodies = &y[BODY_DOF * i0..BODY_DOF * (i0 + len)];
+        let mut cnt = 0;
         for j in 0..len {
-            let mut mask = b.touch[j];
-            if mask == 0 {
+            if b.margin[j] >= 0.0 {
                 continue;
             }
-            let i = i0 + j;
             let m = j + 1;
-            let (x, yy, vx, vy) = (b.x[m], b.y[m], b.vx[m], b.vy[m]);
-            let z = bodies[BODY_DOF * j + 6];
             let zf = zone[j];
-            let (mut fx, mut fy, mut dz) = (0.0, -weight, 0.0);
-            while mask != 0 {
-                let q = mask.trailing_zeros() as usize;
-                mask &= mask - 1;
-                let pc = &self.pulleys[q];
-                let (rx, ry) = (x - pc.cx, yy - pc.cy);
-                // eq. 4-8: direction, penetration and its rate
-                let dist = (rx * rx + ry * ry).sqrt();
-                let inv = 1.0 / dist.max(1e-12);
-                let (nx, ny) = (rx * inv, ry * inv);
-                let p = pc.radius - dist;
-                let p_dot = -(vx * nx + vy * ny);
-                let (normal, elastic) = self.contact.normal_force(p, p_dot);
-                // eq. 14-18 with the pulley radius as lever: v_T = omega r_p - v.tau
-                let (tx, ty) = (-ny, nx);
-                let v_t = omega_p[q] * pc.radius - (vx * tx + vy * ty);
-                let mu = self
-                    .friction
-                    .coefficient(v_t, z, pc.mu_s * zf, pc.mu_k * zf);
-                let f = mu * normal; // eq. 19, along +tau
-                let (cfx, cfy) = (normal * nx + f * tx, normal * ny + f * ty);
-                fx += cfx;
-                fy += cfy;
-                belt_torque[q] -= pc.radius * f; // eq. 24
-                dz += self.friction.creep_rate(v_t, z);
-                p_diss += (normal - elastic) * p_dot + f * v_t;
-                if R::ACTIVE {
-                    rec.contact(i, q, normal, f, v_t, p);
-                    rec.hub_force(q, -cfx, -cfy);
+            for (q, pc) in self.pulleys[..self.np].iter().enumerate() {
+                let (rx, ry) = (b.x[m] - pc.cx, b.y[m] - pc.cy);
+                if rx * rx + ry * ry >= pc.radius2 {
+                    continue;
+                }
+                let k = &mut b.contacts;
+                k.body[cnt] = j as u32;
+                k.pulley[cnt] = q as u32;
+                k.rx[cnt] = rx;
+                k.ry[cnt] = ry;
+                k.vx[cnt] = b.vx[m];
+                k.vy[cnt] = b.vy[m];
+                k.z[cnt] = bodies[BODY_DOF * j + 6];
+                k.radius[cnt] = pc.radius;
+                k.surface[cnt] = omega_p[q] * pc.radius;
+                k.mu_s[cnt] = pc.mu_s * zf;
+                k.mu_k[cnt] = pc.mu_k * zf;
+                cnt += 1;
+                if cnt == CONTACTS {
+                    p_diss += self.contacts(b, cnt, i0, belt_torque, rec);
+                    cnt = 0;
                 }
             }
-            b.ofx[j] = fx;
-            b.ofy[j] = fy;
-            b.dz[j] = dz;
+        }
+        if cnt > 0 {
+            p_diss += self.contacts(b, cnt, i0, belt_torque, rec);
         }
 
         // (4) Accelerations (eq. 20-23): own forces, the left SDE (j) and
@@ -638,6 +683,72 @@ impl BeltSystem {
             d[4] = ay;
             d[5] = torque * inv_i - c * b.w[m];
             d[6] = b.dz[j];
+        }
+        p_diss
+    }
+
+    /// Contact and friction forces (eq. 4-19) of the first `cnt`
+    /// collected contacts of a block, added to the bodies' own forces and
+    /// the pulleys' belt torque in collection order. Returns their power.
+    #[inline(always)]
+    fn contacts<R: Recorder>(
+        &self,
+        b: &mut Block,
+        cnt: usize,
+        i0: usize,
+        belt_torque: &mut [f64; MAX_PULLEYS],
+        rec: &mut R,
+    ) -> f64 {
+        let k = &mut b.contacts;
+        // one loop per friction law, so that each has no branch to vectorise
+        let creep = self.friction.law == FrictionLaw::Creep;
+        macro_rules! contact_loop {
+            ($mu:expr) => {
+                for c in 0..cnt {
+                    let (rx, ry) = (k.rx[c], k.ry[c]);
+                    let (vx, vy, z) = (k.vx[c], k.vy[c], k.z[c]);
+                    // eq. 4-8: direction, penetration and its rate
+                    let dist = (rx * rx + ry * ry).sqrt();
+                    let inv = 1.0 / dist.max(1e-12);
+                    let (nx, ny) = (rx * inv, ry * inv);
+                    let p = k.radius[c] - dist;
+                    let p_dot = -(vx * nx + vy * ny);
+                    let (normal, elastic) = self.contact.normal_force(p, p_dot);
+                    // eq. 14-18 with the pulley radius as lever: v_T = omega r_p - v.tau
+                    let (tx, ty) = (-ny, nx);
+                    let v_t = k.surface[c] - (vx * tx + vy * ty);
+                    #[allow(clippy::redundant_closure_call)]
+                    let mu = $mu(v_t, z, k.mu_s[c], k.mu_k[c]);
+                    let f = mu * normal; // eq. 19, along +tau
+                    k.fx[c] = normal * nx + f * tx;
+                    k.fy[c] = normal * ny + f * ty;
+                    k.dz[c] = self.friction.creep_rate(v_t, z);
+                    k.diss[c] = (normal - elastic) * p_dot + f * v_t;
+                    k.normal[c] = normal;
+                    k.f[c] = f;
+                    k.v_t[c] = v_t;
+                    k.p[c] = p;
+                }
+            };
+        }
+        let fr = &self.friction;
+        if creep {
+            contact_loop!(|_v, z, ms, mk| fr.creep_coefficient(z, ms, mk));
+        } else {
+            contact_loop!(|v, z, ms, mk| fr.kubas_coefficient(v, z, ms, mk));
+        }
+        let mut p_diss = 0.0;
+        for c in 0..cnt {
+            let (j, q) = (k.body[c] as usize, k.pulley[c] as usize);
+            b.ofx[j] += k.fx[c];
+            b.ofy[j] += k.fy[c];
+            b.dz[j] += k.dz[c];
+            belt_torque[q] -= k.radius[c] * k.f[c]; // eq. 24
+            p_diss += k.diss[c];
+            if R::ACTIVE {
+                rec.contact(i0 + j, q, k.normal[c], k.f[c], k.v_t[c], k.p[c]);
+                rec.hub_force(q, -k.fx[c], -k.fy[c]);
+            }
         }
         p_diss
     }
