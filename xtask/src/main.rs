@@ -1,11 +1,14 @@
-//! Project tasks: `cargo xtask <fmu|venv|run|test>`.
+//! Project tasks: `cargo xtask <fmu|venv|run|test|valgrind>`.
 //!
 //! * `fmu`  - release build, then `dist/BeltDrive.fmu` (model description with
 //!   its GUID, the Linux binary, generated documentation).
 //! * `venv` - `.venv` with the Python test harness (FMPy, pytest, ...).
 //! * `run`  - the main job: build the FMU and simulate the paper's drive with
 //!   it through FMPy (headline figures + `dist/default_drive.png`).
-//! * `test` - everything CI runs: fmt, clippy, cargo tests, FMU, pytest.
+//! * `test` - everything CI runs: fmt, clippy, cargo tests, valgrind (if
+//!   installed), FMU, pytest.
+//! * `valgrind` - memcheck over instantiate / step / FMU-state / free cycles
+//!   of the built library (`examples/valgrind_driver.rs`).
 
 mod docs;
 #[path = "../../modelDescription/guid.rs"]
@@ -152,11 +155,58 @@ fn test() -> Result<()> {
         cargo().args(["test", "--workspace", "--release"]),
         "cargo test",
     )?;
+    if have_valgrind() {
+        valgrind()?;
+    } else {
+        eprintln!("xtask: valgrind not found: skipping the memory check (cargo xtask valgrind)");
+    }
     fmu()?;
     venv()?;
     run(
         Command::new(venv_python()).args(["-m", "pytest", "-q", "tests/python"]),
         "pytest (FMU through FMPy)",
+    )
+}
+
+/// Whether `valgrind` can be started.
+fn have_valgrind() -> bool {
+    Command::new("valgrind")
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success())
+}
+
+/// valgrind memcheck over the FMU library: `examples/valgrind_driver.rs`
+/// loads it with dlopen and runs instantiate / step / FMU-state / free
+/// cycles. Fails on any memcheck error or a definite or indirect leak
+/// ("possibly lost" and "still reachable" blocks of the Rust runtime and of
+/// dlopen are not errors).
+fn valgrind() -> Result<()> {
+    run(
+        cargo().args([
+            "build",
+            "--release",
+            "--lib",
+            "--example",
+            "valgrind_driver",
+            "-p",
+            "belt_drive",
+        ]),
+        "release build of the library and the valgrind driver",
+    )?;
+    let target = std::env::var("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|_| root().join("target"));
+    run(
+        Command::new("valgrind")
+            .args([
+                "--tool=memcheck",
+                "--leak-check=full",
+                "--errors-for-leak-kinds=definite,indirect",
+                "--error-exitcode=1",
+            ])
+            .arg(target.join("release/examples/valgrind_driver")),
+        "valgrind memcheck",
     )
 }
 
@@ -167,7 +217,8 @@ fn main() {
         Some("venv") => venv(),
         Some("run") => main_job(&args[1..]),
         Some("test") => test(),
-        _ => Err("usage: cargo xtask <fmu|venv|run|test>".into()),
+        Some("valgrind") => valgrind(),
+        _ => Err("usage: cargo xtask <fmu|venv|run|test|valgrind>".into()),
     };
     if let Err(e) = result {
         eprintln!("xtask: {e}");
