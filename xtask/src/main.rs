@@ -1,15 +1,21 @@
-//! Project tasks: `cargo xtask <fmu|venv|run|test>`.
+//! Project tasks: `cargo xtask <fmu|venv|run|crosscheck|fmi-sim|test>`.
 //!
 //! * `fmu`  - release build, then `dist/BeltDrive.fmu` (model description with
-//!   its GUID, the Linux binary, generated documentation).
+//!   its GUID, the Linux binary, generated documentation, model icon).
 //! * `venv` - `.venv` with the Python test harness (FMPy, pytest, ...).
 //! * `run`  - the main job: build the FMU and simulate the paper's drive with
 //!   it through FMPy (headline figures + `dist/default_drive.png`).
-//! * `test` - everything CI runs: fmt, clippy, cargo tests, FMU, pytest.
+//! * `crosscheck` - reference results in the FMI cross-check layout beside
+//!   the FMU: `dist/BeltDrive_{ref.csv,ref.opt,in.csv}` (FMPy).
+//! * `fmi-sim` - install the pinned rust-fmi `fmi-sim` into `.tools/`.
+//! * `test` - everything CI runs: fmt, clippy, cargo tests, FMU, cross-check
+//!   files, fmi-sim, pytest (FMPy and fmi-sim).
 
 mod docs;
 #[path = "../../modelDescription/guid.rs"]
 mod guid;
+mod icon;
+mod tools;
 
 use std::fs;
 use std::io::Write;
@@ -83,9 +89,7 @@ fn fmu() -> Result<PathBuf> {
         "documentation/index.html",
         docs::index_html(&xml, model_md.as_deref())?.as_bytes(),
     )?;
-    if let Ok(png) = fs::read(root.join("modelDescription/model.png")) {
-        add("model.png", &png)?;
-    }
+    add("model.png", &icon::model_png())?;
     zip.finish().map_err(|e| e.to_string())?;
     println!("{}", path.display());
     Ok(path)
@@ -132,6 +136,19 @@ fn main_job(args: &[String]) -> Result<()> {
     )
 }
 
+/// `cargo xtask crosscheck [-- --stop-time 0.5]`
+fn crosscheck(args: &[String]) -> Result<()> {
+    let args = args.strip_prefix(&["--".to_string()]).unwrap_or(args);
+    fmu()?;
+    venv()?;
+    run(
+        Command::new(venv_python())
+            .arg("tests/python/crosscheck.py")
+            .args(args),
+        "cross-check reference results (FMPy)",
+    )
+}
+
 fn test() -> Result<()> {
     run(
         cargo().args(["fmt", "--all", "--", "--check"]),
@@ -152,11 +169,13 @@ fn test() -> Result<()> {
         cargo().args(["test", "--workspace", "--release"]),
         "cargo test",
     )?;
-    fmu()?;
-    venv()?;
+    crosscheck(&[])?;
+    let fmi_sim = tools::fmi_sim()?;
     run(
-        Command::new(venv_python()).args(["-m", "pytest", "-q", "tests/python"]),
-        "pytest (FMU through FMPy)",
+        Command::new(venv_python())
+            .args(["-m", "pytest", "-q", "tests/python"])
+            .env("FMI_SIM", fmi_sim),
+        "pytest (FMU through FMPy and fmi-sim)",
     )
 }
 
@@ -166,8 +185,10 @@ fn main() {
         Some("fmu") => fmu().map(|_| ()),
         Some("venv") => venv(),
         Some("run") => main_job(&args[1..]),
+        Some("crosscheck") => crosscheck(&args[1..]),
+        Some("fmi-sim") => tools::fmi_sim().map(|p| println!("{}", p.display())),
         Some("test") => test(),
-        _ => Err("usage: cargo xtask <fmu|venv|run|test>".into()),
+        _ => Err("usage: cargo xtask <fmu|venv|run|crosscheck|fmi-sim|test>".into()),
     };
     if let Err(e) = result {
         eprintln!("xtask: {e}");
