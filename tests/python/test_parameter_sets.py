@@ -95,3 +95,41 @@ def test_applied_through_fmpy(path):
     preload = start["belt.preload"]
     for k in range(1, n + 1):
         assert np.all(np.abs(res[f"span[{k}].tension"] - preload) < 0.2 * preload), k
+
+
+SSD = """<?xml version="1.0" encoding="UTF-8"?>
+<ssd:SystemStructureDescription xmlns:ssd="http://ssp-standard.org/SSP1/SystemStructureDescription"
+    version="1.0" name="AccessoryDrive">
+  <ssd:System name="engineBay">
+    <ssd:Elements>
+      <ssd:Component name="beltDrive" type="application/x-fmu-sharedlibrary"
+          source="resources/BeltDrive.fmu">
+        <ssd:ParameterBindings>
+          <ssd:ParameterBinding source="resources/{ssv}"/>
+        </ssd:ParameterBindings>
+      </ssd:Component>
+    </ssd:Elements>
+  </ssd:System>
+</ssd:SystemStructureDescription>
+"""
+
+
+@pytest.mark.parametrize("path", SETS, ids=lambda p: p.stem)
+def test_bound_in_an_ssp(path, tmp_path):
+    """The README's SSP recipe: the FMU and an .ssv as resources of an .ssp,
+    bound to the component without a prefix (the .ssv names are the FMU's
+    variable names). FMPy's SSP reader validates the .ssd against the SSP 1.0
+    schema and resolves the binding."""
+    import zipfile
+    from fmpy.ssp.ssd import read_ssd
+
+    ssp = tmp_path / "BeltDrive.ssp"
+    with zipfile.ZipFile(ssp, "w") as z:
+        z.writestr("SystemStructure.ssd", SSD.format(ssv=path.name))
+        z.write(FMU, "resources/BeltDrive.fmu")
+        z.write(path, f"resources/{path.name}")
+    component = read_ssd(str(ssp)).system.elements[0]
+    (binding,) = component.parameterBindings
+    assert binding.prefix in (None, "")
+    (values,) = binding.parameterValues
+    assert [p.name for p in values.parameters] == [p.name for p in read_ssv(str(path)).parameters]
