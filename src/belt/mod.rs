@@ -12,10 +12,13 @@
 pub mod contact;
 pub mod drive;
 pub mod friction;
+pub mod iteration_matrix;
+pub mod jacobian;
 pub mod layout;
 pub mod model;
 pub mod params;
 pub mod rkf45;
+pub mod rosenbrock;
 
 pub use drive::{Drive, Outputs};
 pub use model::Inputs;
