@@ -40,8 +40,9 @@ fn range_error(name: &str, allowed: &str, got: impl std::fmt::Display) -> String
 }
 
 impl BeltDrive {
-    /// The physics parameters with the integer ones checked and applied.
-    fn drive_params(&self) -> Result<DriveParams, String> {
+    /// The physics parameters with the integer ones checked and applied
+    /// (public for tests that compare parameter sets with `DriveParams`).
+    pub fn drive_params(&self) -> Result<DriveParams, String> {
         let i = &self.ints;
         let mut p = self.params.clone();
         if !(2..=MAX_PULLEYS as i32).contains(&i.n_pulleys) {
