@@ -1,4 +1,4 @@
-//! Project tasks: `cargo xtask <fmu|venv|run|crosscheck|fmi-sim|test|valgrind>`.
+//! Project tasks: `cargo xtask <fmu|venv|run|validate|crosscheck|fmi-sim|test|valgrind>`.
 //!
 //! * `fmu`  - release build, then `dist/BeltDrive.fmu` (model description with
 //!   its GUID, the Linux binary, generated documentation, model icon).
@@ -12,6 +12,11 @@
 //!   installed), FMU, cross-check files, fmi-sim, pytest (FMPy and fmi-sim).
 //! * `valgrind` - memcheck over instantiate / step / FMU-state / free cycles
 //!   of the built library (`examples/valgrind_driver.rs`).
+//! * `validate` - the validation report: both paper drives, the closed-form
+//!   panel and the convergence studies through the built FMU
+//!   (`validation/validate.py`; plots in `docs/validation/`, tables in
+//!   `docs/validation.md` and `docs/model.md`). Arguments after `--` go to
+//!   the script (`--quick --out DIR`, `--method`, `--dv`, `--jobs`, ...).
 
 mod docs;
 #[path = "../../modelDescription/guid.rs"]
@@ -151,6 +156,19 @@ fn crosscheck(args: &[String]) -> Result<()> {
     )
 }
 
+/// `cargo xtask validate [-- --quick --out DIR ...]`
+fn validate(args: &[String]) -> Result<()> {
+    let args = args.strip_prefix(&["--".to_string()]).unwrap_or(args);
+    fmu()?;
+    venv()?;
+    run(
+        Command::new(venv_python())
+            .arg("validation/validate.py")
+            .args(args),
+        "validation report",
+    )
+}
+
 fn test() -> Result<()> {
     run(
         cargo().args(["fmt", "--all", "--", "--check"]),
@@ -234,11 +252,14 @@ fn main() {
         Some("fmu") => fmu().map(|_| ()),
         Some("venv") => venv(),
         Some("run") => main_job(&args[1..]),
+        Some("validate") => validate(&args[1..]),
         Some("crosscheck") => crosscheck(&args[1..]),
         Some("fmi-sim") => tools::fmi_sim().map(|p| println!("{}", p.display())),
         Some("test") => test(),
         Some("valgrind") => valgrind(),
-        _ => Err("usage: cargo xtask <fmu|venv|run|crosscheck|fmi-sim|test|valgrind>".into()),
+        _ => Err(
+            "usage: cargo xtask <fmu|venv|run|validate|crosscheck|fmi-sim|test|valgrind>".into(),
+        ),
     };
     if let Err(e) = result {
         eprintln!("xtask: {e}");
