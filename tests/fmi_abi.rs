@@ -6,7 +6,7 @@
 
 mod abi;
 
-use std::ffi::{c_char, CStr, CString};
+use std::ffi::{c_char, c_int, CStr, CString};
 use std::ptr;
 
 use abi::*;
@@ -249,4 +249,90 @@ fn serialized_state_round_trip_and_refusals() {
         assert_eq!((fmi.free_state)(i.c, &mut s), OK);
         assert_eq!((fmi.free_state)(j.c, &mut s2), OK);
     }
+}
+/// fmi2SetDebugLogging through the C ABI: the listed categories (and only
+/// they) are forwarded, logAll traces calls, loggingOn = false with no list
+/// silences everything but errors, an unknown category is fmi2Error with a
+/// message that lists the defined ones.
+#[test]
+fn debug_logging_honours_the_categories() {
+    let fmi = Fmi::load();
+    let set_logging = |i: &Instance, on: bool, categories: &[&str]| -> c_int {
+        let names: Vec<CString> = categories
+            .iter()
+            .map(|c| CString::new(*c).unwrap())
+            .collect();
+        let ptrs: Vec<*const c_char> = names.iter().map(|c| c.as_ptr()).collect();
+        let list = if ptrs.is_empty() {
+            ptr::null()
+        } else {
+            ptrs.as_ptr()
+        };
+        // SAFETY: live instance; `ptrs` holds `len` valid C strings.
+        unsafe { (fmi.set_debug_logging)(i.c, on as c_int, ptrs.len(), list) }
+    };
+    let take = |i: &Instance| std::mem::take(&mut *i.log.borrow_mut());
+    let categories = |lines: &[(c_int, String, String)]| -> Vec<String> {
+        lines.iter().map(|(_, c, _)| c.clone()).collect()
+    };
+
+    // Instantiated with loggingOn = false: nothing but errors.
+    let i = Instance::new(&fmi);
+    assert_eq!(i.set_integer("solver.maxSteps", 1), OK); // every step is discarded
+    assert_eq!(set_logging(&i, true, &["logStatusDiscard"]), OK);
+    for (name, x) in SHORT {
+        assert_eq!(i.set_integer(name, *x), OK);
+    }
+    unsafe {
+        assert_eq!((fmi.setup_experiment)(i.c, 0, 0.0, 0.0, 0, 0.0), OK);
+        assert_eq!((fmi.enter_init)(i.c), OK);
+        assert_eq!((fmi.exit_init)(i.c), OK);
+    }
+    assert_eq!(take(&i), vec![], "logEvents is off");
+    assert_eq!(i.step(0.0, 1e-3), DISCARD);
+    let lines = take(&i);
+    assert_eq!(categories(&lines), ["logStatusDiscard"], "{lines:?}");
+    assert_eq!(lines[0].0, DISCARD);
+
+    // Exactly the listed categories: logEvents on, logStatusDiscard off
+    // (fmi2Terminate is the call allowed after a discarded step).
+    assert_eq!(set_logging(&i, true, &["logEvents"]), OK);
+    assert_eq!(unsafe { (fmi.terminate)(i.c) }, OK);
+    let lines = take(&i);
+    assert_eq!(categories(&lines), ["logEvents"], "{lines:?}");
+    assert!(lines[0].2.contains("terminated"));
+
+    // logAll: a trace line per call, on top of the categories' messages.
+    let i = Instance::initialized(&fmi, &[]);
+    assert_eq!(set_logging(&i, true, &["logAll"]), OK);
+    assert_eq!(i.step(0.0, 1e-3), OK);
+    let lines = take(&i);
+    assert!(
+        lines
+            .iter()
+            .any(|(s, c, m)| *s == OK && c == "logAll" && m.contains("fmi2DoStep")),
+        "{lines:?}"
+    );
+    // loggingOn = false with no list: all off (the call itself is still
+    // traced: logAll was on when it came in).
+    assert_eq!(set_logging(&i, false, &[]), OK);
+    take(&i);
+    assert_eq!(i.step(1e-3, 1e-3), OK);
+    assert_eq!(take(&i), vec![]);
+    // loggingOn = true with no list: all on.
+    assert_eq!(set_logging(&i, true, &[]), OK);
+    assert_eq!(unsafe { (fmi.terminate)(i.c) }, OK);
+    let lines = take(&i);
+    assert!(
+        lines
+            .iter()
+            .any(|(s, c, m)| *s == OK && c == "logEvents" && m.contains("terminated")),
+        "{lines:?}"
+    );
+
+    // An unknown category is refused; the message lists the defined ones.
+    let j = Instance::new(&fmi);
+    let status = set_logging(&j, true, &["logEvents", "logNoSuchThing"]);
+    j.assert_refused(status, "unknown log category \"logNoSuchThing\"");
+    j.assert_refused(status, "logStatusError");
 }
