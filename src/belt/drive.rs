@@ -1,10 +1,13 @@
 //! A simulated belt drive: parameters, mounted layout, state, integrator.
 //! This is the whole interface the FMI adapter uses.
 
+use super::iteration_matrix::IterationMatrix;
+use super::jacobian::Jacobian;
 use super::layout::Layout;
 use super::model::{BeltSystem, Inputs, NoRecord, Recorder, BODY_DOF};
-use super::params::{DriveParams, ParamError, MAX_PULLEYS};
+use super::params::{DriveParams, Method, ParamError, MAX_PULLEYS};
 use super::rkf45::{OdeSystem, Rkf45, Stats, StepFailure};
+use super::rosenbrock::{Rosenbrock, StiffSystem};
 
 impl OdeSystem for BeltSystem {
     fn dim(&self) -> usize {
@@ -16,6 +19,135 @@ impl OdeSystem for BeltSystem {
     }
     fn after_step(&self, y: &mut [f64]) {
         BeltSystem::after_step(self, y);
+    }
+}
+
+impl StiffSystem for BeltSystem {
+    type Jacobian = Jacobian;
+    type Matrix = IterationMatrix;
+    fn new_jacobian(&self) -> Jacobian {
+        Jacobian::new(self)
+    }
+    fn new_matrix(&self) -> IterationMatrix {
+        IterationMatrix::new(self)
+    }
+    fn jacobian(&self, t: f64, y: &[f64], jac: &mut Jacobian) {
+        BeltSystem::jacobian(self, t, y, jac);
+    }
+    fn factor(&self, jac: &Jacobian, c: f64, m: &mut IterationMatrix) -> bool {
+        m.factor(self, jac, c)
+    }
+    fn solve(&self, jac: &Jacobian, m: &mut IterationMatrix, b: &mut [f64]) {
+        m.solve(self, jac, b);
+    }
+    fn save_jacobian(&self, jac: &Jacobian, out: &mut Vec<f64>) {
+        jac.save(out);
+    }
+    fn load_jacobian(&self, jac: &mut Jacobian, src: &[f64]) -> bool {
+        jac.load(src)
+    }
+    /// Body angles and spins carry only the damped artificial modes. With
+    /// the creep law the body velocities do too (friction follows the creep
+    /// state, which is controlled); with `kubas2014` friction follows the
+    /// sliding velocity itself, and a step that jumps across the stick band
+    /// |v_T| < dv lands on the sliding branch, whose linearisation has no
+    /// friction slope: the velocities stay controlled.
+    fn error_mask(&self, mask: &mut [f64]) {
+        mask.fill(1.0);
+        let free: &[usize] = match self.friction.law {
+            super::params::FrictionLaw::Creep => &[2, 3, 4, 5],
+            super::params::FrictionLaw::Kubas2014 => &[2, 5],
+        };
+        for i in 0..self.n {
+            let o = BODY_DOF * i;
+            for &k in free {
+                mask[o + k] = 0.0;
+            }
+        }
+    }
+}
+
+/// The integrator of a drive, chosen by `solver.method`.
+#[derive(Clone, Debug, PartialEq)]
+#[allow(clippy::large_enum_variant)] // one per drive: its size does not matter
+pub enum Integrator {
+    Rkf45(Rkf45),
+    Rosenbrock(Rosenbrock<BeltSystem>),
+}
+
+impl Integrator {
+    fn new(sys: &BeltSystem, params: &DriveParams) -> Self {
+        let s = &params.solver;
+        match s.method {
+            Method::Rkf45 => Self::Rkf45(Rkf45::new(
+                sys.dim(),
+                s.rel_tol,
+                s.abs_tol,
+                s.initial_step,
+                s.max_steps,
+            )),
+            Method::Rosenbrock => Self::Rosenbrock(Rosenbrock::new(
+                sys,
+                s.rel_tol,
+                s.abs_tol,
+                s.initial_step,
+                s.max_steps,
+            )),
+        }
+    }
+
+    fn advance(
+        &mut self,
+        sys: &BeltSystem,
+        t: &mut f64,
+        y: &mut [f64],
+        t_end: f64,
+    ) -> Result<(), StepFailure> {
+        match self {
+            Self::Rkf45(i) => i.advance(sys, t, y, t_end),
+            Self::Rosenbrock(i) => i.advance(sys, t, y, t_end),
+        }
+    }
+
+    pub fn stats(&self) -> Stats {
+        match self {
+            Self::Rkf45(i) => i.stats,
+            Self::Rosenbrock(i) => i.stats,
+        }
+    }
+
+    /// Step size proposed for the next step.
+    pub fn step_size(&self) -> f64 {
+        match self {
+            Self::Rkf45(i) => i.h,
+            Self::Rosenbrock(i) => i.h,
+        }
+    }
+
+    /// Integrator data beyond step size and counters that a saved state
+    /// must carry (the stiff method's kept Jacobian); empty for RKF45.
+    fn save(&self, sys: &BeltSystem) -> Vec<f64> {
+        let mut out = Vec::new();
+        if let Self::Rosenbrock(i) = self {
+            i.save(sys, &mut out);
+        }
+        out
+    }
+
+    /// Restores step size, counters and what [`save`](Self::save) wrote.
+    fn restore(&mut self, sys: &BeltSystem, h: f64, stats: Stats, extra: &[f64]) -> bool {
+        match self {
+            Self::Rkf45(i) => {
+                i.h = h;
+                i.stats = stats;
+                extra.is_empty()
+            }
+            Self::Rosenbrock(i) => {
+                i.h = h;
+                i.stats = stats;
+                i.load(sys, extra)
+            }
+        }
     }
 }
 
@@ -52,6 +184,9 @@ pub struct Outputs {
     pub pulleys: [PulleyOutputs; MAX_PULLEYS],
     /// Tension of the middle SDE of the free span from pulley k to k+1.
     pub span_tension: [f64; MAX_PULLEYS],
+    /// Slip across span k: 1 - v_{k+1} / v_k, surface speeds of consecutive
+    /// pulleys (the last span closes the loop back to pulley 1).
+    pub span_slip: [f64; MAX_PULLEYS],
     pub min_tension: f64,
     pub max_tension: f64,
     pub probe: ProbeOutputs,
@@ -165,7 +300,7 @@ pub struct Drive {
     sys: BeltSystem,
     t: f64,
     y: Vec<f64>,
-    integrator: Rkf45,
+    integrator: Integrator,
     /// Scratch for recorded evaluations (outputs only).
     dy: Vec<f64>,
     tensions: Vec<f64>,
@@ -194,8 +329,7 @@ impl Drive {
             y[o + 1] = b.y;
             y[o + 2] = b.phi;
         }
-        let s = &params.solver;
-        let integrator = Rkf45::new(dim, s.rel_tol, s.abs_tol, s.initial_step, s.max_steps);
+        let integrator = Integrator::new(&sys, params);
         let mut drive = Self {
             params: params.clone(),
             layout,
@@ -229,7 +363,10 @@ impl Drive {
         &self.y
     }
     pub fn stats(&self) -> Stats {
-        self.integrator.stats
+        self.integrator.stats()
+    }
+    pub fn integrator(&self) -> &Integrator {
+        &self.integrator
     }
     pub fn inputs(&self) -> &Inputs {
         &self.sys.inputs
@@ -301,6 +438,12 @@ impl Drive {
                 0.0
             };
             po.wrap_angle = self.layout.wrap_of(j).map_or(0.0, |w| w.angle);
+            let v = surface(j);
+            out.span_slip[j] = if v != 0.0 {
+                1.0 - surface((j + 1) % np) / v
+            } else {
+                0.0
+            };
         }
         let e = self.sys.energy_offset();
         out.energy_input = self.y[e];
@@ -311,22 +454,35 @@ impl Drive {
         out
     }
 
+    /// Integrator data for a saved state, see [`restore`](Self::restore).
+    pub fn integrator_data(&self) -> Vec<f64> {
+        self.integrator.save(&self.sys)
+    }
+
     /// Replaces time, state, inputs and integrator data (restoring a
-    /// snapshot of the same parameters).
-    pub fn restore(&mut self, t: f64, y: &[f64], inputs: Inputs, h: f64, stats: Stats) -> bool {
+    /// snapshot of the same parameters; `integrator_data` as returned by
+    /// [`integrator_data`](Self::integrator_data)). False if they do not fit.
+    pub fn restore(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        inputs: Inputs,
+        h: f64,
+        stats: Stats,
+        integrator_data: &[f64],
+    ) -> bool {
         if y.len() != self.y.len() {
             return false;
         }
         self.t = t;
         self.y.copy_from_slice(y);
         self.sys.inputs = inputs;
-        self.integrator.h = h;
-        self.integrator.stats = stats;
-        true
+        self.integrator
+            .restore(&self.sys, h, stats, integrator_data)
     }
 
     /// Step size the integrator will try next.
     pub fn next_step_size(&self) -> f64 {
-        self.integrator.h
+        self.integrator.step_size()
     }
 }

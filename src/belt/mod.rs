@@ -13,10 +13,13 @@
 pub mod contact;
 pub mod drive;
 pub mod friction;
+pub mod iteration_matrix;
+pub mod jacobian;
 pub mod layout;
 pub mod model;
 pub mod params;
 pub mod rkf45;
+pub mod rosenbrock;
 pub mod trig;
 
 pub use drive::{Drive, Outputs};

@@ -35,12 +35,15 @@ impl FrictionLaw {
 pub enum Method {
     /// Runge-Kutta-Fehlberg 4(5), the paper's method.
     Rkf45 = 1,
+    /// Linearly implicit Rosenbrock-W method ROS34PW2 (stiff, L-stable).
+    Rosenbrock = 2,
 }
 
 impl Method {
     pub fn from_code(code: i32) -> Option<Self> {
         match code {
             1 => Some(Self::Rkf45),
+            2 => Some(Self::Rosenbrock),
             _ => None,
         }
     }
