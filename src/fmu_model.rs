@@ -40,8 +40,9 @@ fn range_error(name: &str, allowed: &str, got: impl std::fmt::Display) -> String
 }
 
 impl BeltDrive {
-    /// The physics parameters with the integer ones checked and applied.
-    fn drive_params(&self) -> Result<DriveParams, String> {
+    /// The physics parameters with the integer ones checked and applied
+    /// (public for tests that compare parameter sets with `DriveParams`).
+    pub fn drive_params(&self) -> Result<DriveParams, String> {
         let i = &self.ints;
         let mut p = self.params.clone();
         if !(2..=MAX_PULLEYS as i32).contains(&i.n_pulleys) {
@@ -71,8 +72,13 @@ impl BeltDrive {
             ));
         }
         p.probe_body = (i.probe_body - 1) as usize;
-        p.solver.method = Method::from_code(i.method)
-            .ok_or_else(|| range_error("solver.method", "1 (RKF45)", i.method))?;
+        p.solver.method = Method::from_code(i.method).ok_or_else(|| {
+            range_error(
+                "solver.method",
+                "1 (RKF45) or 2 (Rosenbrock-W, stiff)",
+                i.method,
+            )
+        })?;
         if i.max_steps < 1 {
             return Err(range_error("solver.maxSteps", ">= 1", i.max_steps));
         }
@@ -239,7 +245,7 @@ impl FmuModel for BeltDrive {
                 zone_bodies: 0,
                 probe_body: 108,
                 method: 1,
-                max_steps: 100_000_000,
+                max_steps: 100_000,
             },
             inputs: Inputs::default(),
             start_time: 0.0,
@@ -420,7 +426,8 @@ impl FmuModel for BeltDrive {
 mod snapshot {
     use super::*;
 
-    const VERSION: u32 = 1;
+    /// 2: integrator data (the stiff method's kept Jacobian) after the state.
+    const VERSION: u32 = 2;
 
     struct Writer<'a>(&'a mut Vec<u8>);
     impl Writer<'_> {
@@ -467,6 +474,15 @@ mod snapshot {
             }
             (0..expect).map(|_| self.f64()).collect()
         }
+        /// A length-prefixed list whose length is known only from the data:
+        /// refused unless the bytes for it are there.
+        fn f64s_any(&mut self) -> Result<Vec<f64>, String> {
+            let n = self.u64()?;
+            if n > (self.0.len() / 8) as u64 {
+                return Err("model state is truncated".into());
+            }
+            (0..n).map(|_| self.f64()).collect()
+        }
     }
 
     /// Every variable that is a parameter, in model-description order.
@@ -512,6 +528,7 @@ mod snapshot {
                 w.u64(s.rhs_evals);
                 w.f64(s.last_step);
                 w.f64s(d.state());
+                w.f64s(&d.integrator_data());
             }
         }
     }
@@ -562,7 +579,10 @@ mod snapshot {
                 if !(t.is_finite() && h.is_finite() && h > 0.0 && y.iter().all(|x| x.is_finite())) {
                     return Err("model state holds non-finite values".into());
                 }
-                drive.restore(t, &y, inputs, h, stats);
+                let data = r.f64s_any()?;
+                if !drive.restore(t, &y, inputs, h, stats, &data) {
+                    return Err("model state's integrator data does not fit the parameters".into());
+                }
                 m.drive = Some(drive);
             }
             k => return Err(format!("model state is corrupt (drive flag {k})")),

@@ -20,6 +20,16 @@ pub struct ContactLaw {
     pub inv_p_max: f64,
 }
 
+/// Derivative of [`smoothstep`].
+#[inline(always)]
+pub fn smoothstep_slope(x: f64) -> f64 {
+    if x <= 0.0 || x >= 1.0 {
+        0.0
+    } else {
+        6.0 * x * (1.0 - x)
+    }
+}
+
 impl ContactLaw {
     /// Normal force for penetration `p` > 0 and penetration rate `p_dot`
     /// (eq. 9), never negative (the belt cannot pull on the pulley), and its
@@ -29,6 +39,22 @@ impl ContactLaw {
         let elastic = (self.c1 * p + self.c2) * p;
         let n = elastic + smoothstep(p * self.inv_p_max) * self.b * p_dot;
         (n.max(0.0), elastic)
+    }
+
+    /// [`normal_force`](Self::normal_force) with its partial derivatives
+    /// `(N, dN/dp, dN/dp_dot)` (zero where the clamp at 0 is active), for the
+    /// Jacobian of the implicit integrator.
+    #[inline(always)]
+    pub fn normal_force_jac(&self, p: f64, p_dot: f64) -> (f64, f64, f64) {
+        let x = p * self.inv_p_max;
+        let s = smoothstep(x);
+        let n = (self.c1 * p + self.c2) * p + s * self.b * p_dot;
+        if n <= 0.0 {
+            return (0.0, 0.0, 0.0);
+        }
+        let dn_dp =
+            2.0 * self.c1 * p + self.c2 + smoothstep_slope(x) * self.inv_p_max * self.b * p_dot;
+        (n, dn_dp, s * self.b)
     }
 
     /// Elastic energy stored at penetration `p` (the integral of the elastic part).
@@ -52,6 +78,31 @@ mod tests {
         assert_eq!(smoothstep(0.5), 0.5);
         assert_eq!(smoothstep(1.0), 1.0);
         assert_eq!(smoothstep(3.0), 1.0);
+    }
+
+    #[test]
+    fn normal_force_derivatives_match_differences() {
+        let law = ContactLaw {
+            c1: 3.0e9,
+            c2: 6.5e5,
+            b: 300.0,
+            inv_p_max: 1e4,
+        };
+        for &(p, pd) in &[(2e-5, 0.01), (5e-5, -0.02), (2e-4, 0.3), (1e-4, 0.0)] {
+            let (n, dp, dpd) = law.normal_force_jac(p, pd);
+            assert_eq!(n, law.normal_force(p, pd).0);
+            let (e1, e2) = (1e-10, 1e-7);
+            let fp = (law.normal_force(p + e1, pd).0 - law.normal_force(p - e1, pd).0) / (2.0 * e1);
+            let fpd =
+                (law.normal_force(p, pd + e2).0 - law.normal_force(p, pd - e2).0) / (2.0 * e2);
+            assert!((dp - fp).abs() <= 1e-6 * fp.abs().max(1.0), "{dp} {fp}");
+            assert!(
+                (dpd - fpd).abs() <= 1e-6 * fpd.abs().max(1.0),
+                "{dpd} {fpd}"
+            );
+        }
+        // clamped: no force, no slope
+        assert_eq!(law.normal_force_jac(1e-6, -100.0), (0.0, 0.0, 0.0));
     }
 
     #[test]

@@ -1,10 +1,13 @@
 //! A simulated belt drive: parameters, mounted layout, state, integrator.
 //! This is the whole interface the FMI adapter uses.
 
+use super::iteration_matrix::IterationMatrix;
+use super::jacobian::Jacobian;
 use super::layout::Layout;
 use super::model::{BeltSystem, Inputs, NoRecord, Recorder, BODY_DOF};
-use super::params::{DriveParams, ParamError, MAX_PULLEYS};
+use super::params::{DriveParams, Method, ParamError, MAX_PULLEYS};
 use super::rkf45::{OdeSystem, Rkf45, Stats, StepFailure};
+use super::rosenbrock::{Rosenbrock, StiffSystem};
 
 impl OdeSystem for BeltSystem {
     fn dim(&self) -> usize {
@@ -16,6 +19,138 @@ impl OdeSystem for BeltSystem {
     }
     fn after_step(&self, y: &mut [f64]) {
         BeltSystem::after_step(self, y);
+    }
+}
+
+impl StiffSystem for BeltSystem {
+    type Jacobian = Jacobian;
+    type Matrix = IterationMatrix;
+    fn new_jacobian(&self) -> Jacobian {
+        Jacobian::new(self)
+    }
+    fn new_matrix(&self) -> IterationMatrix {
+        IterationMatrix::new(self)
+    }
+    fn jacobian(&self, t: f64, y: &[f64], jac: &mut Jacobian) {
+        BeltSystem::jacobian(self, t, y, jac);
+    }
+    fn factor(&self, jac: &Jacobian, c: f64, m: &mut IterationMatrix) -> bool {
+        m.factor(self, jac, c)
+    }
+    fn solve(&self, jac: &Jacobian, m: &mut IterationMatrix, b: &mut [f64]) {
+        m.solve(self, jac, b);
+    }
+    fn save_jacobian(&self, jac: &Jacobian, out: &mut Vec<f64>) {
+        jac.save(out);
+    }
+    fn load_jacobian(&self, jac: &mut Jacobian, src: &[f64]) -> bool {
+        jac.load(src)
+    }
+    /// Body angles and spins carry only the damped artificial modes. With
+    /// the creep law the body velocities do too (friction follows the creep
+    /// state, which is controlled); with `kubas2014` friction follows the
+    /// sliding velocity itself, and a step that jumps across the stick band
+    /// |v_T| < dv lands on the sliding branch, whose linearisation has no
+    /// friction slope: the velocities stay controlled.
+    fn error_mask(&self, mask: &mut [f64]) {
+        // Not left out altogether: at 1/1000 weight a step that goes unstable
+        // in these components is still rejected.
+        const LOOSE: f64 = 1e-3;
+        mask.fill(1.0);
+        let free: &[usize] = match self.friction.law {
+            super::params::FrictionLaw::Creep => &[2, 3, 4, 5],
+            super::params::FrictionLaw::Kubas2014 => &[2, 5],
+        };
+        for i in 0..self.n {
+            let o = BODY_DOF * i;
+            for &k in free {
+                mask[o + k] = LOOSE;
+            }
+        }
+    }
+}
+
+/// The integrator of a drive, chosen by `solver.method`.
+#[derive(Clone, Debug, PartialEq)]
+#[allow(clippy::large_enum_variant)] // one per drive: its size does not matter
+pub enum Integrator {
+    Rkf45(Rkf45),
+    Rosenbrock(Rosenbrock<BeltSystem>),
+}
+
+impl Integrator {
+    fn new(sys: &BeltSystem, params: &DriveParams) -> Self {
+        let s = &params.solver;
+        match s.method {
+            Method::Rkf45 => Self::Rkf45(Rkf45::new(
+                sys.dim(),
+                s.rel_tol,
+                s.abs_tol,
+                s.initial_step,
+                s.max_steps,
+            )),
+            Method::Rosenbrock => Self::Rosenbrock(Rosenbrock::new(
+                sys,
+                s.rel_tol,
+                s.abs_tol,
+                s.initial_step,
+                s.max_steps,
+            )),
+        }
+    }
+
+    fn advance(
+        &mut self,
+        sys: &BeltSystem,
+        t: &mut f64,
+        y: &mut [f64],
+        t_end: f64,
+    ) -> Result<(), StepFailure> {
+        match self {
+            Self::Rkf45(i) => i.advance(sys, t, y, t_end),
+            Self::Rosenbrock(i) => i.advance(sys, t, y, t_end),
+        }
+    }
+
+    pub fn stats(&self) -> Stats {
+        match self {
+            Self::Rkf45(i) => i.stats,
+            Self::Rosenbrock(i) => i.stats,
+        }
+    }
+
+    /// Step size proposed for the next step.
+    pub fn step_size(&self) -> f64 {
+        match self {
+            Self::Rkf45(i) => i.h,
+            Self::Rosenbrock(i) => i.h,
+        }
+    }
+
+    /// Integrator data beyond step size and counters that a saved state
+    /// must carry (the stiff method's kept Jacobian); empty for RKF45.
+    fn save(&self, sys: &BeltSystem) -> Vec<f64> {
+        let mut out = Vec::new();
+        if let Self::Rosenbrock(i) = self {
+            i.save(sys, &mut out);
+        }
+        out
+    }
+
+    /// Restores step size, counters and what [`save`](Self::save) wrote.
+    fn restore(&mut self, sys: &BeltSystem, h: f64, stats: Stats, extra: &[f64]) -> bool {
+        match self {
+            Self::Rkf45(i) => {
+                i.h = h;
+                i.stats = stats;
+                extra.is_empty()
+            }
+            Self::Rosenbrock(i) => {
+                i.h = h;
+                i.stats = stats;
+                i.load(sys, extra)
+            }
+        }
     }
 }
 
@@ -118,7 +253,10 @@ impl Recorder for OutputRecorder<'_> {
 /// forces exactly, and friction would lock that error in. A short damped
 /// relaxation (mass-proportional damping near critical for the contact mode,
 /// friction off) removes it; the belt then starts at rest with zero creep.
-fn relax_into_equilibrium(sys: &BeltSystem, y: &mut [f64]) {
+/// `max_steps` bounds the work in total (the solver's step-count guard, at
+/// most `RELAX_MAX_STEPS`); a relaxation cut short leaves the belt as far as
+/// it got.
+fn relax_into_equilibrium(sys: &BeltSystem, y: &mut [f64], max_steps: u64) {
     let mut relax = sys.clone();
     for p in relax.pulleys.iter_mut() {
         p.mu_s = 0.0;
@@ -132,11 +270,13 @@ fn relax_into_equilibrium(sys: &BeltSystem, y: &mut [f64]) {
     relax.relax_damping = 2.0 * (k_contact / relax.mass).sqrt();
     // Relax over a few axial diffusion times of the damped belt, at least
     // ten contact periods; stop early once everything is at rest.
-    let mut rk = Rkf45::new(y.len(), 1e-5, 1e-9, 1e-7, 5_000_000);
+    const CHUNKS: u64 = 20;
+    let per_chunk = (max_steps.min(RELAX_MAX_STEPS) / CHUNKS).max(1);
+    let mut rk = Rkf45::new(y.len(), 1e-5, 1e-9, 1e-7, per_chunk);
     let mut t = 0.0;
     let period = std::f64::consts::TAU / (k_contact / relax.mass).sqrt();
     let chunk = 2.0 * period;
-    for _ in 0..20 {
+    for _ in 0..CHUNKS {
         let target = t + chunk;
         if rk.advance(&relax, &mut t, y, target).is_err() {
             break;
@@ -160,6 +300,9 @@ fn relax_into_equilibrium(sys: &BeltSystem, y: &mut [f64]) {
     y[e + 1] = 0.0;
 }
 
+/// Step-count guard of the equilibrium relaxation.
+const RELAX_MAX_STEPS: u64 = 5_000_000;
+
 /// A belt drive ready to run.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Drive {
@@ -168,7 +311,7 @@ pub struct Drive {
     sys: BeltSystem,
     t: f64,
     y: Vec<f64>,
-    integrator: Rkf45,
+    integrator: Integrator,
     /// Scratch for recorded evaluations (outputs only).
     dy: Vec<f64>,
     tensions: Vec<f64>,
@@ -179,7 +322,7 @@ impl Drive {
     /// relaxes it into static equilibrium.
     pub fn new(params: &DriveParams, t0: f64) -> Result<Self, ParamError> {
         let mut drive = Self::mounted(params, t0)?;
-        relax_into_equilibrium(&drive.sys, &mut drive.y);
+        relax_into_equilibrium(&drive.sys, &mut drive.y, params.solver.max_steps);
         Ok(drive)
     }
 
@@ -197,8 +340,7 @@ impl Drive {
             y[o + 1] = b.y;
             y[o + 2] = b.phi;
         }
-        let s = &params.solver;
-        let integrator = Rkf45::new(dim, s.rel_tol, s.abs_tol, s.initial_step, s.max_steps);
+        let integrator = Integrator::new(&sys, params);
         let mut drive = Self {
             params: params.clone(),
             layout,
@@ -232,7 +374,10 @@ impl Drive {
         &self.y
     }
     pub fn stats(&self) -> Stats {
-        self.integrator.stats
+        self.integrator.stats()
+    }
+    pub fn integrator(&self) -> &Integrator {
+        &self.integrator
     }
     pub fn inputs(&self) -> &Inputs {
         &self.sys.inputs
@@ -320,22 +465,35 @@ impl Drive {
         out
     }
 
+    /// Integrator data for a saved state, see [`restore`](Self::restore).
+    pub fn integrator_data(&self) -> Vec<f64> {
+        self.integrator.save(&self.sys)
+    }
+
     /// Replaces time, state, inputs and integrator data (restoring a
-    /// snapshot of the same parameters).
-    pub fn restore(&mut self, t: f64, y: &[f64], inputs: Inputs, h: f64, stats: Stats) -> bool {
+    /// snapshot of the same parameters; `integrator_data` as returned by
+    /// [`integrator_data`](Self::integrator_data)). False if they do not fit.
+    pub fn restore(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        inputs: Inputs,
+        h: f64,
+        stats: Stats,
+        integrator_data: &[f64],
+    ) -> bool {
         if y.len() != self.y.len() {
             return false;
         }
         self.t = t;
         self.y.copy_from_slice(y);
         self.sys.inputs = inputs;
-        self.integrator.h = h;
-        self.integrator.stats = stats;
-        true
+        self.integrator
+            .restore(&self.sys, h, stats, integrator_data)
     }
 
     /// Step size the integrator will try next.
     pub fn next_step_size(&self) -> f64 {
-        self.integrator.h
+        self.integrator.step_size()
     }
 }

@@ -7,7 +7,7 @@
 //! smoothstep makes on [-1, 1]: S(u) = (3u - u^3)/2, S(0) = 0, S'(0) = 3/2,
 //! S(1) = 1, S'(1) = 0 (docs/model.md, "Friction").
 
-use super::contact::smoothstep;
+use super::contact::{smoothstep, smoothstep_slope};
 use super::params::FrictionLaw;
 
 /// Odd S-curve: the upper half of eq. 10's course stretched over [-1, 1].
@@ -15,6 +15,16 @@ use super::params::FrictionLaw;
 pub fn s_curve(u: f64) -> f64 {
     let u = u.clamp(-1.0, 1.0);
     0.5 * u * (3.0 - u * u)
+}
+
+/// Derivative of [`s_curve`].
+#[inline(always)]
+pub fn s_curve_slope(u: f64) -> f64 {
+    if u.abs() >= 1.0 {
+        0.0
+    } else {
+        1.5 * (1.0 - u * u)
+    }
 }
 
 /// Friction law with its constants.
@@ -57,27 +67,70 @@ impl Friction {
     #[inline(always)]
     pub fn coefficient(&self, v_t: f64, z: f64, mu_s: f64, mu_k: f64) -> f64 {
         match self.law {
+            FrictionLaw::Creep => self.creep_coefficient(z, mu_s, mu_k),
+            FrictionLaw::Kubas2014 => self.kubas_coefficient(v_t, z, mu_s, mu_k),
+        }
+    }
+
+    /// [`Self::coefficient`] of the creep law.
+    #[inline(always)]
+    pub fn creep_coefficient(&self, z: f64, mu_s: f64, mu_k: f64) -> f64 {
+        let u = z * self.inv_creep_max;
+        let a = u.abs();
+        if a <= 1.0 {
+            mu_s * s_curve(u)
+        } else {
+            let mu = mu_s + (mu_k - mu_s) * smoothstep((a - 1.0) * 2.0);
+            mu.copysign(u)
+        }
+    }
+
+    /// [`Self::coefficient`] of the kubas2014 law.
+    #[inline(always)]
+    pub fn kubas_coefficient(&self, v_t: f64, z: f64, mu_s: f64, mu_k: f64) -> f64 {
+        let w = v_t.abs() * self.inv_dv;
+        if w < 1.0 {
+            // eq. 13: mu = (1 - beta) mu1(Delta) + beta mu_s
+            let beta = s_curve(w);
+            let mu1 = mu_s * s_curve(z * self.inv_creep_max);
+            (1.0 - beta) * mu1 + (beta * mu_s).copysign(v_t)
+        } else {
+            // Fig. 6c: mu_s -> mu_k over dv..1.5 dv, then mu_k.
+            let mu = mu_s + (mu_k - mu_s) * smoothstep((w - 1.0) * 2.0);
+            mu.copysign(v_t)
+        }
+    }
+
+    /// [`coefficient`](Self::coefficient) with its partial derivatives
+    /// `(mu, dmu/dv_t, dmu/dz)`, for the Jacobian of the implicit integrator.
+    #[inline(always)]
+    pub fn coefficient_jac(&self, v_t: f64, z: f64, mu_s: f64, mu_k: f64) -> (f64, f64, f64) {
+        let mu = self.coefficient(v_t, z, mu_s, mu_k);
+        match self.law {
             FrictionLaw::Creep => {
                 let u = z * self.inv_creep_max;
                 let a = u.abs();
-                if a <= 1.0 {
-                    mu_s * s_curve(u)
+                let dmu_dz = if a <= 1.0 {
+                    mu_s * s_curve_slope(u) * self.inv_creep_max
                 } else {
-                    let mu = mu_s + (mu_k - mu_s) * smoothstep((a - 1.0) * 2.0);
-                    mu.copysign(u)
-                }
+                    (mu_k - mu_s) * smoothstep_slope((a - 1.0) * 2.0) * 2.0 * self.inv_creep_max
+                };
+                (mu, 0.0, dmu_dz)
             }
             FrictionLaw::Kubas2014 => {
                 let w = v_t.abs() * self.inv_dv;
                 if w < 1.0 {
-                    // eq. 13: mu = (1 - beta) mu1(Delta) + beta mu_s
                     let beta = s_curve(w);
-                    let mu1 = mu_s * s_curve(z * self.inv_creep_max);
-                    (1.0 - beta) * mu1 + (beta * mu_s).copysign(v_t)
+                    let u = z * self.inv_creep_max;
+                    let mu1 = mu_s * s_curve(u);
+                    let sign = if v_t < 0.0 { -1.0 } else { 1.0 };
+                    let dmu_dv = s_curve_slope(w) * self.inv_dv * (mu_s - sign * mu1);
+                    let dmu_dz = (1.0 - beta) * mu_s * s_curve_slope(u) * self.inv_creep_max;
+                    (mu, dmu_dv, dmu_dz)
                 } else {
-                    // Fig. 6c: mu_s -> mu_k over dv..1.5 dv, then mu_k.
-                    let mu = mu_s + (mu_k - mu_s) * smoothstep((w - 1.0) * 2.0);
-                    mu.copysign(v_t)
+                    let dmu_dv =
+                        (mu_k - mu_s) * smoothstep_slope((w - 1.0) * 2.0) * 2.0 * self.inv_dv;
+                    (mu, dmu_dv, 0.0)
                 }
             }
         }
@@ -129,6 +182,33 @@ mod tests {
         assert_eq!(f.creep_rate(0.1, cap), 0.0);
         assert_eq!(f.creep_rate(-0.1, cap), -0.1);
         assert_eq!(f.creep_rate(0.1, 1e-4), 0.1);
+    }
+
+    #[test]
+    fn coefficient_derivatives_match_differences() {
+        let (ms, mk) = (1.05, 0.9);
+        for law in [FrictionLaw::Creep, FrictionLaw::Kubas2014] {
+            let f = Friction::new(law, 1e-3, 1e-4);
+            for &v in &[-2e-3, -1.2e-3, -4e-4, 3e-4, 1.3e-3, 0.05] {
+                for &z in &[-1.3e-4, -5e-5, 2e-5, 9e-5, 1.2e-4, 1.45e-4] {
+                    let (mu, dv, dz) = f.coefficient_jac(v, z, ms, mk);
+                    assert_eq!(mu, f.coefficient(v, z, ms, mk));
+                    let (ev, ez) = (1e-9, 1e-10);
+                    let fv = (f.coefficient(v + ev, z, ms, mk) - f.coefficient(v - ev, z, ms, mk))
+                        / (2.0 * ev);
+                    let fz = (f.coefficient(v, z + ez, ms, mk) - f.coefficient(v, z - ez, ms, mk))
+                        / (2.0 * ez);
+                    assert!(
+                        (dv - fv).abs() <= 1e-5 * fv.abs().max(1.0),
+                        "{law:?} v={v} z={z}: {dv} vs {fv}"
+                    );
+                    assert!(
+                        (dz - fz).abs() <= 1e-5 * fz.abs().max(1.0),
+                        "{law:?} v={v} z={z}: {dz} vs {fz}"
+                    );
+                }
+            }
+        }
     }
 
     #[test]

@@ -1,0 +1,141 @@
+//! `cargo bench --bench stiff`: the stiff integrator (solver.method = 2):
+//! cost of its kernels per body, real-time factor of the default 5PK drive
+//! and the section-3 drive with headline outputs, scaling with body count,
+//! and the paper's `kubas2014` law at its printed dv = 1e-5 m/s. Plain
+//! timing; figures go to docs/benchmarks.md.
+
+use belt_drive::belt::drive::Integrator;
+use belt_drive::belt::iteration_matrix::IterationMatrix;
+use belt_drive::belt::jacobian::Jacobian;
+use belt_drive::belt::model::NoRecord;
+use belt_drive::belt::params::Method;
+use belt_drive::belt::{Drive, DriveParams, FrictionLaw};
+use std::hint::black_box;
+use std::time::Instant;
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(|a, b| a.total_cmp(b));
+    v[v.len() / 2]
+}
+
+fn time_per_call(reps: usize, mut f: impl FnMut()) -> f64 {
+    median(
+        (0..5)
+            .map(|_| {
+                let t = Instant::now();
+                for _ in 0..reps {
+                    f();
+                }
+                t.elapsed().as_secs_f64() / reps as f64
+            })
+            .collect(),
+    )
+}
+
+fn kernels(n: usize) {
+    let mut p = DriveParams::kubas_section4();
+    p.belt.n_bodies = n;
+    p.solver.method = Method::Rosenbrock;
+    let mut d = Drive::new(&p, 0.0).expect("valid drive");
+    d.advance(0.05).expect("runs");
+    let sys = d.system().clone();
+    let y = d.state().to_vec();
+    let mut dy = vec![0.0; y.len()];
+    let mut jac = Jacobian::new(&sys);
+    let mut m = IterationMatrix::new(&sys);
+    let reps = (200_000 / n).max(20);
+    let rhs = time_per_call(reps, || {
+        sys.rhs(0.05, black_box(&y), &mut dy, &mut NoRecord)
+    });
+    let j = time_per_call(reps, || sys.jacobian(0.05, black_box(&y), &mut jac));
+    let f = time_per_call(reps, || {
+        black_box(m.factor(&sys, &jac, 1e-5));
+    });
+    let mut b = dy.clone();
+    let s = time_per_call(reps, || {
+        b.copy_from_slice(&dy);
+        m.solve(&sys, &jac, &mut b);
+    });
+    let per = |x: f64| x * 1e9 / n as f64;
+    println!(
+        "n = {n:5}: ns per body: rhs {:.1}, jacobian {:.1}, factor {:.1}, solve {:.1}",
+        per(rhs),
+        per(j),
+        per(f),
+        per(s)
+    );
+}
+
+/// Runs `p` for `horizon` s in 1 ms communication steps; prints the wall
+/// time, real-time factor, counts and the averages over the last quarter.
+fn run(label: &str, p: &DriveParams, horizon: f64) {
+    let mut d = Drive::new(p, 0.0).expect("valid drive");
+    let t = Instant::now();
+    let steps = (horizon / 1e-3).round() as usize;
+    let mut acc = [0.0; 4];
+    let mut cnt = 0.0;
+    for k in 1..=steps {
+        d.advance(k as f64 * 1e-3).expect("runs");
+        if k > steps * 3 / 4 {
+            let o = d.outputs();
+            acc[0] += o.pulleys[1].omega;
+            acc[1] += o.span_tension[0];
+            acc[2] += o.span_tension[1];
+            acc[3] += o.pulleys[1].slip;
+            cnt += 1.0;
+        }
+    }
+    let wall = t.elapsed().as_secs_f64();
+    let s = d.stats();
+    let (jacs, facs) = match d.integrator() {
+        Integrator::Rosenbrock(r) => (r.jacobians, r.factorizations),
+        Integrator::Rkf45(_) => (0, 0),
+    };
+    println!(
+        "{label}: wall {wall:.2} s, real-time factor {:.2}, {:.0} s per simulated s per 1000 bodies; steps {} ({:.0}/s), rejected {}, rhs {}, jacobians {jacs}, factorizations {facs}; last quarter: driven {:.4} rad/s, span 1 {:.2} N, span 2 {:.2} N, slip {:.4} %",
+        horizon / wall,
+        wall / horizon / p.belt.n_bodies as f64 * 1000.0,
+        s.steps,
+        s.steps as f64 / horizon,
+        s.rejected,
+        s.rhs_evals,
+        acc[0] / cnt,
+        acc[1] / cnt,
+        acc[2] / cnt,
+        100.0 * acc[3] / cnt
+    );
+}
+
+fn main() {
+    let quick = std::env::var("BELT_BENCH_QUICK").is_ok();
+    println!("# stiff-method kernels (5PK drive at t = 0.05 s)");
+    for n in [150usize, 600, 1200] {
+        kernels(n);
+    }
+    let horizon = if quick { 0.2 } else { 2.0 };
+    println!("# default 5PK drive, creep law, ROS34PW2, 0..{horizon} s");
+    for tol in [1e-4, 1e-5] {
+        let mut p = DriveParams::kubas_section4();
+        p.solver.method = Method::Rosenbrock;
+        p.solver.rel_tol = tol;
+        run(&format!("5PK, rtol {tol:e}"), &p, horizon);
+    }
+    println!("# section-3 drive, ROS34PW2 rtol 1e-5, 0..{horizon} s");
+    let mut p = DriveParams::kubas_section3();
+    p.solver.method = Method::Rosenbrock;
+    p.solver.rel_tol = 1e-5;
+    run("section 3", &p, horizon);
+    println!("# scaling: 5PK drive, ROS34PW2 rtol 1e-4, 0..0.5 s");
+    for n in [150usize, 300, 600, 1200] {
+        let mut p = DriveParams::kubas_section4();
+        p.belt.n_bodies = n;
+        p.solver.method = Method::Rosenbrock;
+        run(&format!("n = {n}"), &p, if quick { 0.05 } else { 0.5 });
+    }
+    println!("# kubas2014 law at the paper's dv = 1e-5 m/s, ROS34PW2 rtol 1e-4");
+    let mut p = DriveParams::kubas_section4();
+    p.friction.law = FrictionLaw::Kubas2014;
+    p.friction.dv = 1e-5;
+    p.solver.method = Method::Rosenbrock;
+    run("kubas2014 dv 1e-5", &p, if quick { 0.02 } else { 2.0 });
+}

@@ -1,0 +1,457 @@
+//! The linear system of an implicit stage, `(I - c J) x = b`, solved in
+//! O(n) for the belt's block Jacobian (jacobian.rs).
+//!
+//! 1. Reduction to velocities: positions and creep states are eliminated
+//!    exactly (dq = b_q + c dv; dz = b_z + c (g_q dq + g_v dv + g_w dw)), which
+//!    leaves 3 unknowns per body plus one per torque-driven pulley:
+//!    `S = I - c^2 dA/dq - c dA/dv - (creep terms)`.
+//! 2. S is block tridiagonal with 3x3 blocks, cyclic (the belt is a closed
+//!    loop), plus dense rows and columns for the pulley speeds. Body n-1 and
+//!    the free pulleys form a border of at most 9 unknowns; bodies 0..n-2 are
+//!    eliminated in order by block Gaussian elimination (fill-in only in the
+//!    border), the border is solved densely (LU with partial pivoting), and
+//!    the bodies are found by back substitution.
+//!
+//! Factoring costs a few hundred flops per body, each solve about sixty; no
+//! allocation after construction.
+
+use super::jacobian::{Jacobian, NEXT, PREV, SELF};
+use super::model::{BeltSystem, BODY_DOF};
+use super::params::MAX_PULLEYS;
+use nalgebra::{Matrix3, RowVector3, SMatrix, SVector, Vector3};
+
+/// Largest border: body n-1 (3) and six pulleys.
+const NB: usize = 3 + MAX_PULLEYS;
+type Border = SMatrix<f64, NB, NB>;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct IterationMatrix {
+    c: f64,
+    /// Border index of pulley j's speed (3 + k), or None if speed-driven.
+    slot: [Option<usize>; MAX_PULLEYS],
+    /// Per body i < n-1: inverse of the eliminated diagonal block.
+    dinv: Vec<Matrix3<f64>>,
+    /// L_i D'_{i-1}^-1 (multiplier of the previous block row).
+    l: Vec<Matrix3<f64>>,
+    /// Upper block S_{i,i+1}.
+    u: Vec<Matrix3<f64>>,
+    /// Border columns after elimination (3 x NB).
+    e: Vec<SMatrix<f64, 3, NB>>,
+    /// Border rows after elimination, times D'_i^-1 (NB x 3).
+    fd: Vec<SMatrix<f64, NB, 3>>,
+    /// LU factors of the border's Schur complement, and its row order.
+    g: Border,
+    perm: [usize; NB],
+    /// Scratch: reduced right-hand sides.
+    rv: Vec<Vector3<f64>>,
+    bz: Vec<f64>,
+}
+
+impl IterationMatrix {
+    pub fn new(sys: &BeltSystem) -> Self {
+        let m = sys.n.saturating_sub(1);
+        let mut slot = [None; MAX_PULLEYS];
+        let mut k = 3;
+        for (j, s) in slot.iter_mut().enumerate().take(sys.np) {
+            if !sys.pulleys[j].speed_driven {
+                *s = Some(k);
+                k += 1;
+            }
+        }
+        Self {
+            c: 0.0,
+            slot,
+            dinv: vec![Matrix3::zeros(); m],
+            l: vec![Matrix3::zeros(); m],
+            u: vec![Matrix3::zeros(); m],
+            e: vec![SMatrix::zeros(); m],
+            fd: vec![SMatrix::zeros(); m],
+            g: Border::identity(),
+            perm: std::array::from_fn(|i| i),
+            rv: vec![Vector3::zeros(); sys.n],
+            bz: vec![0.0; sys.n],
+        }
+    }
+
+    /// Reduced block S_{i,nb} for neighbour slot (PREV, SELF, NEXT).
+    #[inline]
+    fn block(jac: &Jacobian, c: f64, i: usize, slot: usize) -> Matrix3<f64> {
+        let b = &jac.bodies[i];
+        let mut s = -(c * c) * b.aq[slot] - c * b.av[slot];
+        if slot == SELF {
+            s += Matrix3::identity() - c * b.az * Self::h_row(jac, c, i);
+        }
+        s
+    }
+
+    /// H_i = c^2 g_q + c g_v: how the creep increment follows the velocity increment.
+    #[inline]
+    fn h_row(jac: &Jacobian, c: f64, i: usize) -> RowVector3<f64> {
+        let b = &jac.bodies[i];
+        (c * c) * b.gq + c * b.gv
+    }
+
+    /// Border column of body i for pulley j (3-vector), S_{i,w_j}.
+    #[inline]
+    fn pulley_column(jac: &Jacobian, c: f64, i: usize, j: usize) -> Vector3<f64> {
+        let b = &jac.bodies[i];
+        -c * b.aw[j] - (c * c * b.gw[j]) * b.az
+    }
+
+    /// Pulley j's row for body i's velocities, R_{j,i}.
+    #[inline]
+    fn pulley_row(jac: &Jacobian, c: f64, i: usize, j: usize) -> RowVector3<f64> {
+        let b = &jac.bodies[i];
+        -(c * c) * b.pq[j] - c * b.pv[j] - (c * b.pz[j]) * Self::h_row(jac, c, i)
+    }
+
+    /// Border entries (rows of body n-1 and the pulleys) of body i's columns.
+    fn border_rows(
+        &self,
+        jac: &Jacobian,
+        c: f64,
+        sys: &BeltSystem,
+        i: usize,
+    ) -> SMatrix<f64, NB, 3> {
+        let n = sys.n;
+        let last = n - 1;
+        let mut f = SMatrix::<f64, NB, 3>::zeros();
+        if i == 0 {
+            f.fixed_view_mut::<3, 3>(0, 0)
+                .copy_from(&Self::block(jac, c, last, NEXT));
+        }
+        if i + 2 == n {
+            let mut v = f.fixed_view_mut::<3, 3>(0, 0);
+            v += Self::block(jac, c, last, PREV);
+        }
+        let touching = jac.bodies[i].touching;
+        for (j, s) in self.slot.iter().enumerate().take(sys.np) {
+            if let Some(k) = *s {
+                if touching & (1 << j) != 0 {
+                    f.fixed_view_mut::<1, 3>(k, 0)
+                        .copy_from(&Self::pulley_row(jac, c, i, j));
+                }
+            }
+        }
+        f
+    }
+
+    /// Border columns (body n-1 and pulley speeds) of body i's rows.
+    fn border_cols(
+        &self,
+        jac: &Jacobian,
+        c: f64,
+        sys: &BeltSystem,
+        i: usize,
+    ) -> SMatrix<f64, 3, NB> {
+        let n = sys.n;
+        let mut e = SMatrix::<f64, 3, NB>::zeros();
+        if i == 0 {
+            e.fixed_view_mut::<3, 3>(0, 0)
+                .copy_from(&Self::block(jac, c, 0, PREV));
+        }
+        if i + 2 == n {
+            let mut v = e.fixed_view_mut::<3, 3>(0, 0);
+            v += Self::block(jac, c, i, NEXT);
+        }
+        let touching = jac.bodies[i].touching;
+        for (j, s) in self.slot.iter().enumerate().take(sys.np) {
+            if let Some(k) = *s {
+                if touching & (1 << j) != 0 {
+                    e.fixed_view_mut::<3, 1>(0, k)
+                        .copy_from(&Self::pulley_column(jac, c, i, j));
+                }
+            }
+        }
+        e
+    }
+
+    /// Factors `I - c J`. Returns false if a pivot block is singular.
+    pub fn factor(&mut self, sys: &BeltSystem, jac: &Jacobian, c: f64) -> bool {
+        let n = sys.n;
+        let m = n - 1;
+        let last = n - 1;
+        self.c = c;
+        // border block G: body n-1 and pulleys
+        let mut g = Border::identity();
+        g.fixed_view_mut::<3, 3>(0, 0)
+            .copy_from(&Self::block(jac, c, last, SELF));
+        let touching_last = jac.bodies[last].touching;
+        for (j, sj) in self.slot.iter().enumerate().take(sys.np) {
+            let Some(kj) = *sj else { continue };
+            if touching_last & (1 << j) != 0 {
+                g.fixed_view_mut::<3, 1>(0, kj)
+                    .copy_from(&Self::pulley_column(jac, c, last, j));
+                g.fixed_view_mut::<1, 3>(kj, 0)
+                    .copy_from(&Self::pulley_row(jac, c, last, j));
+            }
+            // pulley-pulley: R_{j,w_k} = delta - c pw - c^2 sum_i pz_ij gw_ik
+            for (k, sk) in self.slot.iter().enumerate().take(sys.np) {
+                let Some(kk) = *sk else { continue };
+                let mut v = if j == k { 1.0 } else { 0.0 } - c * jac.pw[j][k];
+                for b in &jac.bodies {
+                    if b.touching & (1 << j) != 0 {
+                        v -= c * c * b.pz[j] * b.gw[k];
+                    }
+                }
+                g[(kj, kk)] = v;
+            }
+        }
+        // forward elimination over bodies 0..n-2
+        for i in 0..m {
+            let mut d = Self::block(jac, c, i, SELF);
+            let mut e = self.border_cols(jac, c, sys, i);
+            let mut f = self.border_rows(jac, c, sys, i);
+            if i > 0 {
+                let lower = Self::block(jac, c, i, PREV);
+                let l = lower * self.dinv[i - 1];
+                d -= l * self.u[i - 1];
+                e -= l * self.e[i - 1];
+                f -= self.fd[i - 1] * self.u[i - 1];
+                self.l[i] = l;
+            }
+            let Some(dinv) = d.try_inverse() else {
+                return false;
+            };
+            self.dinv[i] = dinv;
+            self.u[i] = if i + 1 < m {
+                Self::block(jac, c, i, NEXT)
+            } else {
+                Matrix3::zeros()
+            };
+            let fd = f * dinv;
+            g -= fd * e;
+            self.e[i] = e;
+            self.fd[i] = fd;
+        }
+        // LU of the border with partial pivoting (unused slots are identity)
+        let mut perm: [usize; NB] = std::array::from_fn(|i| i);
+        for k in 0..NB {
+            let p = (k..NB)
+                .max_by(|&a, &b| g[(a, k)].abs().total_cmp(&g[(b, k)].abs()))
+                .unwrap_or(k);
+            if g[(p, k)] == 0.0 || !g[(p, k)].is_finite() {
+                return false;
+            }
+            if p != k {
+                g.swap_rows(p, k);
+                perm.swap(p, k);
+            }
+            for r in k + 1..NB {
+                let l = g[(r, k)] / g[(k, k)];
+                g[(r, k)] = l;
+                for cc in k + 1..NB {
+                    g[(r, cc)] -= l * g[(k, cc)];
+                }
+            }
+        }
+        self.g = g;
+        self.perm = perm;
+        true
+    }
+
+    /// Overwrites `b` (a full state-sized vector) with x, `(I - c J) x = b`.
+    #[allow(clippy::needless_range_loop)] // indices run over several parallel arrays
+    pub fn solve(&mut self, sys: &BeltSystem, jac: &Jacobian, b: &mut [f64]) {
+        let n = sys.n;
+        let m = n - 1;
+        let c = self.c;
+        let q = |b: &[f64], i: usize| {
+            Vector3::new(b[BODY_DOF * i], b[BODY_DOF * i + 1], b[BODY_DOF * i + 2])
+        };
+        // 1. reduced right-hand sides
+        let mut rw = SVector::<f64, NB>::zeros();
+        for i in 0..n {
+            let bj = &jac.bodies[i];
+            let o = BODY_DOF * i;
+            let (prev, next) = (
+                if i == 0 { n - 1 } else { i - 1 },
+                if i + 1 == n { 0 } else { i + 1 },
+            );
+            let bq = q(b, i);
+            let bz = b[o + 6] + c * (bj.gq * bq)[0];
+            self.bz[i] = bz;
+            let bv = Vector3::new(b[o + 3], b[o + 4], b[o + 5]);
+            self.rv[i] = bv
+                + c * (bj.aq[PREV] * q(b, prev) + bj.aq[SELF] * bq + bj.aq[NEXT] * q(b, next))
+                + (c * bz) * bj.az;
+            if bj.touching != 0 {
+                for (j, s) in self.slot.iter().enumerate().take(sys.np) {
+                    if let Some(k) = *s {
+                        if bj.touching & (1 << j) != 0 {
+                            rw[k] += c * ((bj.pq[j] * bq)[0] + bj.pz[j] * bz);
+                        }
+                    }
+                }
+            }
+        }
+        for (j, s) in self.slot.iter().enumerate().take(sys.np) {
+            if let Some(k) = *s {
+                rw[k] += b[sys.pulley_offset(j) + 1];
+            }
+        }
+        rw.fixed_view_mut::<3, 1>(0, 0).copy_from(&self.rv[n - 1]);
+        // 2. forward elimination of the right-hand side
+        for i in 0..m {
+            if i > 0 {
+                let prev = self.rv[i - 1];
+                self.rv[i] -= self.l[i] * prev;
+            }
+            rw -= self.fd[i] * self.rv[i];
+        }
+        // border solve: L U x = P rw
+        let mut xb = SVector::<f64, NB>::zeros();
+        for k in 0..NB {
+            xb[k] = rw[self.perm[k]];
+        }
+        for k in 0..NB {
+            for r in k + 1..NB {
+                xb[r] -= self.g[(r, k)] * xb[k];
+            }
+        }
+        for k in (0..NB).rev() {
+            let mut s = xb[k];
+            for cc in k + 1..NB {
+                s -= self.g[(k, cc)] * xb[cc];
+            }
+            xb[k] = s / self.g[(k, k)];
+        }
+        // 3. back substitution: body velocities
+        let mut next = Vector3::zeros();
+        for i in (0..m).rev() {
+            let mut r = self.rv[i] - self.e[i] * xb;
+            if i + 1 < m {
+                r -= self.u[i] * next;
+            }
+            next = self.dinv[i] * r;
+            self.rv[i] = next;
+        }
+        self.rv[n - 1] = Vector3::new(xb[0], xb[1], xb[2]);
+        // 4. recover positions, creep, pulleys
+        let mut dw = [0.0; MAX_PULLEYS];
+        for (j, s) in self.slot.iter().enumerate().take(sys.np) {
+            if let Some(k) = *s {
+                dw[j] = xb[k];
+                let o = sys.pulley_offset(j);
+                b[o + 1] = xb[k];
+                b[o] += c * xb[k];
+            }
+        }
+        for i in 0..n {
+            let bj = &jac.bodies[i];
+            let o = BODY_DOF * i;
+            let dv = self.rv[i];
+            let dq = q(b, i) + c * dv;
+            let mut dz = b[o + 6] + c * ((bj.gq * dq)[0] + (bj.gv * dv)[0]);
+            if bj.touching != 0 {
+                for j in 0..sys.np {
+                    dz += c * bj.gw[j] * dw[j];
+                }
+            }
+            b[o] = dq[0];
+            b[o + 1] = dq[1];
+            b[o + 2] = dq[2];
+            b[o + 3] = dv[0];
+            b[o + 4] = dv[1];
+            b[o + 5] = dv[2];
+            b[o + 6] = dz;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::belt::drive::Drive;
+    use crate::belt::params::{DriveParams, PulleyParams};
+
+    fn dense_solve(mut a: Vec<f64>, mut b: Vec<f64>) -> Vec<f64> {
+        let n = b.len();
+        for k in 0..n {
+            let p = (k..n)
+                .max_by(|&i, &j| a[i * n + k].abs().total_cmp(&a[j * n + k].abs()))
+                .unwrap();
+            for j in 0..n {
+                a.swap(k * n + j, p * n + j);
+            }
+            b.swap(k, p);
+            for i in k + 1..n {
+                let l = a[i * n + k] / a[k * n + k];
+                if l != 0.0 {
+                    for j in k..n {
+                        a[i * n + j] -= l * a[k * n + j];
+                    }
+                    b[i] -= l * b[k];
+                }
+            }
+        }
+        for k in (0..n).rev() {
+            let mut s = b[k];
+            for j in k + 1..n {
+                s -= a[k * n + j] * b[j];
+            }
+            b[k] = s / a[k * n + k];
+        }
+        b
+    }
+
+    #[test]
+    fn solves_like_dense_gaussian_elimination() {
+        for (speed_driven, three) in [(false, false), (true, false), (false, true)] {
+            let mut p = DriveParams::kubas_section4();
+            p.belt.n_bodies = 40;
+            p.belt.preload = 300.0;
+            let mut p1 = PulleyParams::paper_5pk(0.0, 0.0);
+            p1.radius = 0.05;
+            let mut p2 = p1.clone();
+            p2.x = 0.25;
+            p2.load_damping = 0.3;
+            p.pulleys = vec![p1, p2];
+            if three {
+                let mut p3 = PulleyParams::paper_5pk(0.12, 0.2);
+                p3.radius = 0.04;
+                p.pulleys.push(p3);
+                p.belt.n_bodies = 60;
+            }
+            p.pulleys[0].speed_driven = speed_driven;
+            p.probe_body = 0;
+            let d = Drive::new(&p, 0.0).unwrap();
+            let sys = d.system();
+            let mut y = d.state().to_vec();
+            for i in 0..sys.n {
+                let o = BODY_DOF * i;
+                y[o + 3] = 0.3 * (i as f64).sin();
+                y[o + 5] = 10.0 * (i as f64).cos();
+                y[o + 6] = 4e-5 * (i as f64 * 0.3).sin();
+            }
+            let dim = sys.dim();
+            let mut jac = Jacobian::new(sys);
+            sys.jacobian(0.01, &y, &mut jac);
+            let dense = jac.to_dense(sys);
+            let mut im = IterationMatrix::new(sys);
+            for c in [1e-7, 1e-5, 1e-4, 1e-3] {
+                let mut a = vec![0.0; dim * dim];
+                for r in 0..dim {
+                    for k in 0..dim {
+                        a[r * dim + k] = f64::from(u8::from(r == k)) - c * dense[r * dim + k];
+                    }
+                }
+                let b: Vec<f64> = (0..dim).map(|k| ((k * 7919) % 13) as f64 - 6.0).collect();
+                let x_ref = dense_solve(a.clone(), b.clone());
+                assert!(im.factor(sys, &jac, c));
+                let mut x = b.clone();
+                im.solve(sys, &jac, &mut x);
+                // residual of the structured solution in the dense system
+                let scale = x_ref.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                for k in 0..dim {
+                    assert!(
+                        (x[k] - x_ref[k]).abs() <= 1e-8 * scale,
+                        "speed_driven {speed_driven}, 3 pulleys {three}, c {c:e}: x[{k}] = {} vs {}",
+                        x[k],
+                        x_ref[k]
+                    );
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,475 @@
+//! Analytic Jacobian of the belt's right-hand side (model.rs), for the
+//! implicit integrator. Stored by blocks, as the physics couples them:
+//!
+//! * each body's acceleration depends on its own and its two neighbours'
+//!   positions and velocities (translational and torsional SDEs, eq. 20-23),
+//!   on its own creep z and on the speed of the pulleys it touches (contact
+//!   and friction, eq. 9-19);
+//! * each body's creep rate dz/dt = v_T depends on its own position and
+//!   velocity and on the pulley speed (eq. 18);
+//! * each torque-driven pulley's acceleration depends on every body that
+//!   touches it and on its own speed (eq. 24, load damping).
+//!
+//! Positions never depend on anything but velocities (dq/dt = v), pulley
+//! angles only on pulley speeds; the energy accumulators are left out (the
+//! W-method keeps its order with an approximate Jacobian, see rosenbrock.rs).
+
+use super::model::{BeltSystem, BODY_DOF};
+use super::params::MAX_PULLEYS;
+use nalgebra::{Matrix2, Matrix3, RowVector3, Vector2, Vector3};
+
+/// Derivatives of one body's rows: accelerations (vx', vy', omega') and creep rate z'.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct BodyJacobian {
+    /// d(acceleration)/d(position) of body i-1, i, i+1.
+    pub aq: [Matrix3<f64>; 3],
+    /// d(acceleration)/d(velocity) of body i-1, i, i+1.
+    pub av: [Matrix3<f64>; 3],
+    /// d(acceleration)/dz (own creep).
+    pub az: Vector3<f64>,
+    /// d(acceleration)/d(pulley speed j).
+    pub aw: [Vector3<f64>; MAX_PULLEYS],
+    /// dz'/d(own position), dz'/d(own velocity), dz'/d(pulley speed j).
+    pub gq: RowVector3<f64>,
+    pub gv: RowVector3<f64>,
+    pub gw: [f64; MAX_PULLEYS],
+    /// d(pulley j acceleration)/d(this body's position, velocity, z).
+    pub pq: [RowVector3<f64>; MAX_PULLEYS],
+    pub pv: [RowVector3<f64>; MAX_PULLEYS],
+    pub pz: [f64; MAX_PULLEYS],
+    /// Bit j set: the body touches pulley j (only those entries are non-zero).
+    pub touching: u8,
+}
+
+/// Block Jacobian of the whole belt drive.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Jacobian {
+    pub bodies: Vec<BodyJacobian>,
+    /// d(pulley j acceleration)/d(pulley speed k), torque-driven pulleys.
+    pub pw: [[f64; MAX_PULLEYS]; MAX_PULLEYS],
+    /// Pulley j's speed is a state (torque-driven) rather than an input.
+    pub free: [bool; MAX_PULLEYS],
+}
+
+/// Index of the neighbour blocks in `aq`/`av`.
+pub const PREV: usize = 0;
+pub const SELF: usize = 1;
+pub const NEXT: usize = 2;
+
+#[inline(always)]
+fn perp(h: Vector2<f64>) -> Vector2<f64> {
+    Vector2::new(-h.y, h.x)
+}
+
+impl Jacobian {
+    pub fn new(sys: &BeltSystem) -> Self {
+        let mut free = [false; MAX_PULLEYS];
+        for (j, f) in free.iter_mut().enumerate().take(sys.np) {
+            *f = !sys.pulleys[j].speed_driven;
+        }
+        Self {
+            bodies: vec![BodyJacobian::default(); sys.n],
+            pw: [[0.0; MAX_PULLEYS]; MAX_PULLEYS],
+            free,
+        }
+    }
+
+    /// Visits every stored number (for saving and restoring a Jacobian that
+    /// is kept across steps, so a restored run continues bit-identically).
+    fn visit(&mut self, f: &mut impl FnMut(&mut f64)) {
+        for b in &mut self.bodies {
+            for m in b.aq.iter_mut().chain(b.av.iter_mut()) {
+                m.iter_mut().for_each(&mut *f);
+            }
+            b.az.iter_mut().for_each(&mut *f);
+            for v in &mut b.aw {
+                v.iter_mut().for_each(&mut *f);
+            }
+            b.gq.iter_mut().chain(b.gv.iter_mut()).for_each(&mut *f);
+            b.gw.iter_mut().chain(b.pz.iter_mut()).for_each(&mut *f);
+            for v in b.pq.iter_mut().chain(b.pv.iter_mut()) {
+                v.iter_mut().for_each(&mut *f);
+            }
+            let mut touching = f64::from(b.touching);
+            f(&mut touching);
+            b.touching = touching as u8;
+        }
+        self.pw.iter_mut().flatten().for_each(f);
+    }
+
+    /// Appends the stored numbers to `out`.
+    pub fn save(&self, out: &mut Vec<f64>) {
+        let mut copy = self.clone();
+        copy.visit(&mut |x| out.push(*x));
+    }
+
+    /// Reads what [`save`](Self::save) wrote; false if `src` has the wrong
+    /// length or holds a non-finite number (nothing is changed then).
+    pub fn load(&mut self, src: &[f64]) -> bool {
+        let mut len = 0;
+        self.clone().visit(&mut |_| len += 1);
+        if src.len() != len || !src.iter().all(|x| x.is_finite()) {
+            return false;
+        }
+        let mut it = src.iter();
+        self.visit(&mut |x| *x = *it.next().expect("length checked"));
+        true
+    }
+
+    /// The Jacobian as a dense matrix (row-major, `dim x dim`), for tests.
+    pub fn to_dense(&self, sys: &BeltSystem) -> Vec<f64> {
+        let n = sys.n;
+        let dim = sys.dim();
+        let mut m = vec![0.0; dim * dim];
+        let mut set = |r: usize, c: usize, v: f64| m[r * dim + c] += v;
+        for (i, b) in self.bodies.iter().enumerate() {
+            let o = BODY_DOF * i;
+            for r in 0..3 {
+                set(o + r, o + 3 + r, 1.0); // dq/dt = v
+            }
+            for (slot, nb) in [(PREV, (i + n - 1) % n), (SELF, i), (NEXT, (i + 1) % n)] {
+                let on = BODY_DOF * nb;
+                for r in 0..3 {
+                    for c in 0..3 {
+                        set(o + 3 + r, on + c, b.aq[slot][(r, c)]);
+                        set(o + 3 + r, on + 3 + c, b.av[slot][(r, c)]);
+                    }
+                }
+            }
+            for r in 0..3 {
+                set(o + 3 + r, o + 6, b.az[r]);
+                set(o + 6, o + r, b.gq[r]);
+                set(o + 6, o + 3 + r, b.gv[r]);
+            }
+            for j in 0..sys.np {
+                let w = sys.pulley_offset(j) + 1;
+                for r in 0..3 {
+                    set(o + 3 + r, w, b.aw[j][r]);
+                    set(w, o + r, b.pq[j][r]);
+                    set(w, o + 3 + r, b.pv[j][r]);
+                }
+                set(o + 6, w, b.gw[j]);
+                set(w, o + 6, b.pz[j]);
+            }
+        }
+        for j in 0..sys.np {
+            let o = sys.pulley_offset(j);
+            if self.free[j] {
+                set(o, o + 1, 1.0);
+            }
+            for k in 0..sys.np {
+                set(o + 1, sys.pulley_offset(k) + 1, self.pw[j][k]);
+            }
+        }
+        m
+    }
+}
+
+impl BeltSystem {
+    /// Evaluates the Jacobian of [`BeltSystem::rhs`] at (t, y) into `jac`.
+    /// Allocates nothing.
+    #[allow(clippy::needless_range_loop)] // indices run over several parallel arrays
+    pub fn jacobian(&self, t: f64, y: &[f64], jac: &mut Jacobian) {
+        let n = self.n;
+        let np = self.np;
+        let hl = self.half_length;
+        let mut omega_p = [0.0; MAX_PULLEYS];
+        for (j, w) in omega_p.iter_mut().enumerate().take(np) {
+            *w = self.pulley_speed(j, t, y);
+        }
+        jac.pw = [[0.0; MAX_PULLEYS]; MAX_PULLEYS];
+        let (inv_m, inv_i) = (self.inv_mass, self.inv_inertia);
+        let row_scale = Matrix3::from_diagonal(&Vector3::new(inv_m, inv_m, inv_i));
+
+        // Contact and friction of each body (eq. 4-19): forces act at the
+        // body centre, so only the translational rows and own columns.
+        for i in 0..n {
+            let o = BODY_DOF * i;
+            let b = &mut jac.bodies[i];
+            *b = BodyJacobian::default();
+            let x = Vector2::new(y[o], y[o + 1]);
+            let v = Vector2::new(y[o + 3], y[o + 4]);
+            let z = y[o + 6];
+            let mut fq = Matrix2::zeros();
+            let mut fv = Matrix2::zeros();
+            let cap = self.friction.creep_cap();
+            for j in 0..np {
+                let pc = &self.pulleys[j];
+                let r = x - Vector2::new(pc.cx, pc.cy);
+                let d2 = r.norm_squared();
+                if d2 >= pc.radius2 {
+                    continue;
+                }
+                b.touching |= 1 << j;
+                let dist = d2.sqrt().max(1e-12);
+                let nrm = r / dist;
+                let tau = perp(nrm);
+                let p = pc.radius - dist;
+                let p_dot = -v.dot(&nrm);
+                let (normal, dn_dp, dn_dpd) = self.contact.normal_force_jac(p, p_dot);
+                let v_t = omega_p[j] * pc.radius - v.dot(&tau);
+                let zf = self.zone_factor[i];
+                let (mu, dmu_dv, dmu_dz) =
+                    self.friction
+                        .coefficient_jac(v_t, z, pc.mu_s * zf, pc.mu_k * zf);
+                let f = mu * normal;
+                // gradients of p, p_dot, v_T with respect to x and v
+                let dpd_dx = -(v.dot(&tau) / dist) * tau.transpose();
+                let dvt_dx = (v.dot(&nrm) / dist) * tau.transpose();
+                let dvt_dv = -tau.transpose();
+                let dn_dx = -dn_dp * nrm.transpose() + dn_dpd * dpd_dx;
+                let dn_dv = -dn_dpd * nrm.transpose();
+                let df_dx = mu * dn_dx + normal * dmu_dv * dvt_dx;
+                let df_dv = mu * dn_dv + normal * dmu_dv * dvt_dv;
+                // F = N n + f tau, with dn/dx = tau tau^T / dist, dtau/dx = -n tau^T / dist
+                fq += nrm * dn_dx + (normal / dist) * tau * tau.transpose() + tau * df_dx
+                    - (f / dist) * nrm * tau.transpose();
+                fv += nrm * dn_dv + tau * df_dv;
+                let df_dz = normal * dmu_dz;
+                b.az[0] += tau.x * df_dz * inv_m;
+                b.az[1] += tau.y * df_dz * inv_m;
+                let free = !pc.speed_driven;
+                let df_dw = normal * dmu_dv * pc.radius;
+                if free {
+                    b.aw[j][0] += tau.x * df_dw * inv_m;
+                    b.aw[j][1] += tau.y * df_dw * inv_m;
+                }
+                // creep rate dz/dt = v_T, frozen at the cap while pushed outward
+                let capped = z.abs() >= cap && v_t * z > 0.0;
+                if !capped {
+                    b.gq[0] += dvt_dx[0];
+                    b.gq[1] += dvt_dx[1];
+                    b.gv[0] += dvt_dv[0];
+                    b.gv[1] += dvt_dv[1];
+                    if free {
+                        b.gw[j] += pc.radius;
+                    }
+                }
+                // pulley torque -r f (eq. 24)
+                if free {
+                    let k = -pc.radius * pc.inv_inertia;
+                    b.pq[j] = RowVector3::new(k * df_dx[0], k * df_dx[1], 0.0);
+                    b.pv[j] = RowVector3::new(k * df_dv[0], k * df_dv[1], 0.0);
+                    b.pz[j] = k * df_dz;
+                    jac.pw[j][j] += k * df_dw;
+                }
+            }
+            for r in 0..2 {
+                for c in 0..2 {
+                    b.aq[SELF][(r, c)] += fq[(r, c)] * inv_m;
+                    b.av[SELF][(r, c)] += fv[(r, c)] * inv_m;
+                }
+            }
+        }
+
+        // SDE k joins the right end of body p = k-1 to the left end of body
+        // c = k. Gap d = J_d q-ish, generalized forces Q = -J_d^T F (eq. 20-23).
+        let (ks, bs, kt, bt) = (self.k_axial, self.b_axial, self.k_bend, self.b_bend);
+        for k in 0..n {
+            let p = if k == 0 { n - 1 } else { k - 1 };
+            let (op, oc) = (BODY_DOF * p, BODY_DOF * k);
+            let (sp, cp) = y[op + 2].sin_cos();
+            let (sc, cc) = y[oc + 2].sin_cos();
+            let hp = Vector2::new(hl * cp, hl * sp);
+            let hc = Vector2::new(hl * cc, hl * sc);
+            let (hpp, hcp) = (perp(hp), perp(hc));
+            let (wp, wc) = (y[op + 5], y[oc + 5]);
+            let d = Vector2::new(y[oc], y[oc + 1]) - hc - Vector2::new(y[op], y[op + 1]) - hp;
+            let dd = Vector2::new(y[oc + 3], y[oc + 4])
+                - wc * hcp
+                - Vector2::new(y[op + 3], y[op + 4])
+                - wp * hpp;
+            let den = d.norm_squared() + self.eps2;
+            let rho = d.dot(&dd) / den;
+            let force = (ks + bs * rho) * d;
+            let drho_dd = dd / den - (2.0 * rho / den) * d;
+            let f_d = Matrix2::identity() * (ks + bs * rho) + bs * d * drho_dd.transpose();
+            let f_dd = (bs / den) * d * d.transpose();
+            // J_d: 2x6 over (x_p, y_p, phi_p, x_c, y_c, phi_c)
+            let mut jd = nalgebra::SMatrix::<f64, 2, 6>::zeros();
+            jd[(0, 0)] = -1.0;
+            jd[(1, 1)] = -1.0;
+            jd.set_column(2, &(-hpp));
+            jd[(0, 3)] = 1.0;
+            jd[(1, 4)] = 1.0;
+            jd.set_column(5, &(-hcp));
+            // d(dd)/dq: only through the angles
+            let mut ddq = nalgebra::SMatrix::<f64, 2, 6>::zeros();
+            ddq.set_column(2, &(wp * hp));
+            ddq.set_column(5, &(wc * hc));
+            let dfq = f_d * jd + f_dd * ddq;
+            let dfv = f_dd * jd;
+            let mut kq = -jd.transpose() * dfq;
+            let mut kv = -jd.transpose() * dfv;
+            // explicit angle dependence of the lever arms: d(h_perp . F)/dphi = -h . F
+            kq[(2, 2)] -= hp.dot(&force);
+            kq[(5, 5)] -= hc.dot(&force);
+            // torsional SDE: m = kt (phi_c - phi_p) + bt (w_c - w_p), +m on p, -m on c
+            kq[(2, 5)] += kt;
+            kq[(2, 2)] -= kt;
+            kq[(5, 5)] -= kt;
+            kq[(5, 2)] += kt;
+            kv[(2, 5)] += bt;
+            kv[(2, 2)] -= bt;
+            kv[(5, 5)] -= bt;
+            kv[(5, 2)] += bt;
+            let blk = |m: &nalgebra::SMatrix<f64, 6, 6>, r: usize, c: usize| -> Matrix3<f64> {
+                row_scale * m.fixed_view::<3, 3>(r, c)
+            };
+            {
+                let bp = &mut jac.bodies[p];
+                bp.aq[SELF] += blk(&kq, 0, 0);
+                bp.av[SELF] += blk(&kv, 0, 0);
+                bp.aq[NEXT] += blk(&kq, 0, 3);
+                bp.av[NEXT] += blk(&kv, 0, 3);
+            }
+            let bc = &mut jac.bodies[k];
+            bc.aq[SELF] += blk(&kq, 3, 3);
+            bc.av[SELF] += blk(&kv, 3, 3);
+            bc.aq[PREV] += blk(&kq, 3, 0);
+            bc.av[PREV] += blk(&kv, 3, 0);
+        }
+        if self.relax_damping != 0.0 {
+            for b in jac.bodies.iter_mut() {
+                for r in 0..3 {
+                    b.av[SELF][(r, r)] -= self.relax_damping;
+                }
+            }
+        }
+        // Pulley load damping (eq. 24, Fig. 13).
+        for j in 0..np {
+            let pc = &self.pulleys[j];
+            if !pc.speed_driven {
+                jac.pw[j][j] -= pc.load_damping * pc.inv_inertia;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::belt::drive::Drive;
+    use crate::belt::model::NoRecord;
+    use crate::belt::params::{DriveParams, FrictionLaw, PulleyParams};
+
+    /// A small two-pulley drive (r = 50 mm) with `n` bodies.
+    fn drive(law: FrictionLaw, speed_driven: bool) -> Drive {
+        let mut p = DriveParams::kubas_section4();
+        p.belt.n_bodies = 36;
+        p.belt.preload = 300.0;
+        p.friction.law = law;
+        p.friction.dv = 1e-2;
+        p.probe_body = 0;
+        let mut p1 = PulleyParams::paper_5pk(0.0, 0.0);
+        p1.radius = 0.05;
+        let mut p2 = p1.clone();
+        p2.x = 0.25;
+        p2.load_damping = 0.3;
+        p.pulleys = vec![p1, p2];
+        if speed_driven {
+            p.pulleys[0].speed_driven = true;
+            p.pulleys[0].omega_ramp = -20.0;
+            p.pulleys[0].ramp_time = 0.01;
+            p.pulleys[0].torque_ramp = 0.0;
+        }
+        Drive::mounted(&p, 0.0).unwrap()
+    }
+
+    /// Compares the analytic Jacobian with central differences of the
+    /// right-hand side, column by column (energy rows excluded: the W-method
+    /// leaves them out). Returns the number of columns checked.
+    fn check(sys: &BeltSystem, t: f64, y: &[f64]) -> usize {
+        let dim = sys.dim();
+        let mut jac = Jacobian::new(sys);
+        sys.jacobian(t, y, &mut jac);
+        let dense = jac.to_dense(sys);
+        let e_rows = sys.energy_offset();
+        let (mut a, mut b) = (vec![0.0; dim], vec![0.0; dim]);
+        let mut yp = y.to_vec();
+        let mut checked = 0;
+        for c in 0..e_rows {
+            // relative steps: positions ~0.1 m, velocities ~1 m/s, z ~1e-5 m
+            let scale = if c < BODY_DOF * sys.n && c % BODY_DOF == 6 {
+                1e-11
+            } else {
+                1e-8 * y[c].abs().max(1e-2)
+            };
+            yp[c] = y[c] + scale;
+            sys.rhs(t, &yp, &mut a, &mut NoRecord);
+            yp[c] = y[c] - scale;
+            sys.rhs(t, &yp, &mut b, &mut NoRecord);
+            yp[c] = y[c];
+            for r in 0..e_rows {
+                let fd = (a[r] - b[r]) / (2.0 * scale);
+                let an = dense[r * dim + c];
+                // tolerance relative to the row's largest entry (finite
+                // differences lose digits on the small ones)
+                let row_max = (0..e_rows)
+                    .map(|cc| dense[r * dim + cc].abs())
+                    .fold(0.0, f64::max);
+                assert!(
+                    (fd - an).abs() <= 1e-5 * row_max + 1e-6 * an.abs().max(fd.abs()),
+                    "d f[{r}] / d y[{c}]: analytic {an:e}, differences {fd:e} (row max {row_max:e})"
+                );
+            }
+            checked += 1;
+        }
+        checked
+    }
+
+    /// Perturbs a mounted drive into a generic running state: velocities,
+    /// spins, creep at various levels, pulley speeds.
+    fn running_state(d: &Drive, creep: &[f64]) -> Vec<f64> {
+        let sys = d.system();
+        let mut y = d.state().to_vec();
+        for i in 0..sys.n {
+            let o = BODY_DOF * i;
+            let s = (i as f64 * 0.7).sin();
+            y[o] += 1e-5 * s;
+            y[o + 1] -= 2e-5 * (i as f64 * 1.3).cos();
+            y[o + 2] += 0.01 * s;
+            y[o + 3] = 0.9 * s;
+            y[o + 4] = -0.4 * (i as f64).cos();
+            y[o + 5] = 30.0 * s;
+            y[o + 6] = creep[i % creep.len()];
+        }
+        for j in 0..sys.np {
+            y[sys.pulley_offset(j) + 1] = -18.0 - j as f64;
+        }
+        // every third body in contact nearly sticks: v_T a fraction of dv
+        for i in (0..sys.n).step_by(3) {
+            let o = BODY_DOF * i;
+            for j in 0..sys.np {
+                let pc = &sys.pulleys[j];
+                let r = Vector2::new(y[o] - pc.cx, y[o + 1] - pc.cy);
+                if r.norm_squared() < pc.radius2 {
+                    let nrm = r.normalize();
+                    let tau = perp(nrm);
+                    let w = sys.pulley_speed(j, 0.02, &y);
+                    let v = (w * pc.radius - 3e-3) * tau + 0.01 * nrm;
+                    y[o + 3] = v.x;
+                    y[o + 4] = v.y;
+                }
+            }
+        }
+        y
+    }
+
+    #[test]
+    fn jacobian_matches_finite_differences_for_every_force_law() {
+        // just beyond the cap, so that differences do not straddle it
+        let cap_creep = 1.5e-4 * (1.0 + 1e-6);
+        for law in [FrictionLaw::Creep, FrictionLaw::Kubas2014] {
+            for speed_driven in [false, true] {
+                let d = drive(law, speed_driven);
+                assert_eq!(d.system().friction.creep_max, 1e-4);
+                // creep in the elastic range, in the softening range, at the
+                // cap (sliding), and zero (stick at v_T ~ 0 for kubas2014)
+                let y = running_state(&d, &[0.0, 3e-5, -7e-5, 1.2e-4, -1.3e-4, cap_creep]);
+                let cols = check(d.system(), 0.02, &y);
+                assert_eq!(cols, d.system().energy_offset());
+            }
+        }
+    }
+}

@@ -1,0 +1,611 @@
+//! Linearly implicit Rosenbrock-W integrator ROS34PW2 (Rang & Angermann,
+//! BIT 45, 2005): 4 stages, order 3 with an embedded order-2 solution,
+//! L-stable and stiffly accurate. The stiff alternative to [`super::rkf45`].
+//!
+//! Why a W-method: its order conditions hold for *any* matrix in place of the
+//! exact Jacobian, so the Jacobian can be kept over several steps, the
+//! energy accumulators can be left out of it, and the explicit time
+//! dependence of the inputs needs no df/dt term, all without losing order.
+//! Each stage solves (I - h gamma J) x = b with the system's own structured
+//! solver (for the belt: O(n), see [`super::iteration_matrix`]).
+//!
+//! Stages are written in the transformed variables of Hairer & Wanner
+//! (Solving ODEs II, IV.7): with Gamma = (gamma_ij),
+//! `(I/(h gamma) - J) U_i = f(t + alpha_i h, y + sum a_ij U_j) + sum (c_ij / h) U_j`,
+//! `y1 = y + sum m_i U_i`, where a = A Gamma^-1, C = diag(1/gamma) - Gamma^-1,
+//! m = b Gamma^-1; the coefficients are transformed once, at compile time of
+//! the tableau below.
+
+use super::rkf45::{OdeSystem, Stats, StepFailure};
+
+/// An ODE whose Jacobian (or an approximation of it) can be formed and whose
+/// iteration matrix `I - c J` can be factored and solved.
+pub trait StiffSystem: OdeSystem {
+    type Jacobian: Clone + std::fmt::Debug + PartialEq;
+    type Matrix: Clone + std::fmt::Debug + PartialEq;
+    fn new_jacobian(&self) -> Self::Jacobian;
+    fn new_matrix(&self) -> Self::Matrix;
+    /// Evaluates the Jacobian at (t, y).
+    fn jacobian(&self, t: f64, y: &[f64], jac: &mut Self::Jacobian);
+    /// Factors `I - c J`; false if it is singular.
+    fn factor(&self, jac: &Self::Jacobian, c: f64, m: &mut Self::Matrix) -> bool;
+    /// Overwrites `b` with the solution x of `(I - c J) x = b`.
+    fn solve(&self, jac: &Self::Jacobian, m: &mut Self::Matrix, b: &mut [f64]);
+    /// Which components enter the error norm (1) and which not (0): those
+    /// that only carry the fast modes the method is meant to damp.
+    fn error_mask(&self, mask: &mut [f64]) {
+        mask.fill(1.0);
+    }
+    /// Appends the Jacobian's numbers to `out` / reads them back (false if
+    /// they do not fit), for saved states.
+    fn save_jacobian(&self, jac: &Self::Jacobian, out: &mut Vec<f64>);
+    fn load_jacobian(&self, jac: &mut Self::Jacobian, src: &[f64]) -> bool;
+}
+
+const S: usize = 4;
+/// ROS34PW2 in the notation of Rang & Angermann (2005), Table 2.
+const GAMMA: f64 = 4.358_665_215_084_59e-1;
+const ALPHA: [[f64; S]; S] = [
+    [0.0; 4],
+    [8.717_330_430_169_18e-1, 0.0, 0.0, 0.0],
+    [
+        8.445_706_001_536_942e-1,
+        -1.129_906_423_648_418_5e-1,
+        0.0,
+        0.0,
+    ],
+    [0.0, 0.0, 1.0, 0.0],
+];
+const GAMMA_IJ: [[f64; S]; S] = [
+    [GAMMA, 0.0, 0.0, 0.0],
+    [-8.717_330_430_169_18e-1, GAMMA, 0.0, 0.0],
+    [
+        -9.033_805_701_304_408e-1,
+        5.418_067_238_809_532_6e-2,
+        GAMMA,
+        0.0,
+    ],
+    [
+        2.421_238_070_609_534_6e-1,
+        -1.223_250_583_904_514_7,
+        5.452_602_553_351_021e-1,
+        GAMMA,
+    ],
+];
+const B: [f64; S] = [
+    2.421_238_070_609_534_6e-1,
+    -1.223_250_583_904_514_7,
+    1.545_260_255_335_102,
+    GAMMA,
+];
+const B_HAT: [f64; S] = [
+    3.781_090_314_581_937e-1,
+    -9.604_229_221_242_318e-2,
+    0.5,
+    2.179_332_607_542_295e-1,
+];
+
+/// Coefficients in transformed variables: (a, c, m, m - m_hat, alpha_i).
+struct Transformed {
+    a: [[f64; S]; S],
+    c: [[f64; S]; S],
+    m: [f64; S],
+    e: [f64; S],
+    alpha: [f64; S],
+}
+
+/// Inverse of the lower-triangular Gamma by forward substitution.
+const fn gamma_inverse() -> [[f64; S]; S] {
+    let mut inv = [[0.0; S]; S];
+    let mut col = 0;
+    while col < S {
+        let mut i = col;
+        while i < S {
+            let mut s = if i == col { 1.0 } else { 0.0 };
+            let mut k = col;
+            while k < i {
+                s -= GAMMA_IJ[i][k] * inv[k][col];
+                k += 1;
+            }
+            inv[i][col] = s / GAMMA_IJ[i][i];
+            i += 1;
+        }
+        col += 1;
+    }
+    inv
+}
+
+const fn transformed() -> Transformed {
+    let gi = gamma_inverse();
+    let mut t = Transformed {
+        a: [[0.0; S]; S],
+        c: [[0.0; S]; S],
+        m: [0.0; S],
+        e: [0.0; S],
+        alpha: [0.0; S],
+    };
+    let mut i = 0;
+    while i < S {
+        let mut j = 0;
+        while j < S {
+            let mut a = 0.0;
+            let mut k = 0;
+            while k < S {
+                a += ALPHA[i][k] * gi[k][j];
+                k += 1;
+            }
+            t.a[i][j] = a;
+            t.c[i][j] = if i == j { 1.0 / GAMMA } else { 0.0 } - gi[i][j];
+            t.m[i] += B[j] * gi[j][i];
+            t.e[i] += (B[j] - B_HAT[j]) * gi[j][i];
+            t.alpha[i] += ALPHA[i][j];
+            j += 1;
+        }
+        i += 1;
+    }
+    t
+}
+
+const T: Transformed = transformed();
+
+/// How long a Jacobian is kept by default: it is re-evaluated after this
+/// many accepted steps, after a rejected step, and after a restore.
+pub const JACOBIAN_MAX_AGE: u32 = 2;
+
+/// Step-size increases below this factor are not taken, so the factored
+/// iteration matrix (which depends on h) can be reused.
+const KEEP_STEP_BELOW: f64 = 1.25;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Rosenbrock<Sys: StiffSystem> {
+    pub rel_tol: f64,
+    pub abs_tol: f64,
+    pub max_steps: u64,
+    /// Accepted steps a Jacobian is used for (1 = a fresh one every step).
+    pub jacobian_max_age: u32,
+    /// Step size proposed for the next step.
+    pub h: f64,
+    pub stats: Stats,
+    /// Jacobian evaluations and factorizations (cumulative).
+    pub jacobians: u64,
+    pub factorizations: u64,
+    jac: Sys::Jacobian,
+    mat: Sys::Matrix,
+    /// Accepted steps since the Jacobian was evaluated; None = no valid Jacobian.
+    jac_age: Option<u32>,
+    /// The `c = h gamma` of the current factorization, if any.
+    factored_c: Option<f64>,
+    u: [Vec<f64>; S],
+    f: Vec<f64>,
+    stage: Vec<f64>,
+    backup: Vec<f64>,
+    mask: Vec<f64>,
+    controlled: usize,
+}
+
+impl<Sys: StiffSystem> Rosenbrock<Sys> {
+    pub fn new(sys: &Sys, rel_tol: f64, abs_tol: f64, h0: f64, max_steps: u64) -> Self {
+        let dim = sys.dim();
+        let mut mask = vec![1.0; dim];
+        sys.error_mask(&mut mask);
+        let controlled = mask.iter().filter(|&&m| m != 0.0).count().max(1);
+        Self {
+            mask,
+            controlled,
+            rel_tol,
+            abs_tol,
+            max_steps,
+            jacobian_max_age: JACOBIAN_MAX_AGE,
+            h: h0,
+            stats: Stats::default(),
+            jacobians: 0,
+            factorizations: 0,
+            jac: sys.new_jacobian(),
+            mat: sys.new_matrix(),
+            jac_age: None,
+            factored_c: None,
+            u: std::array::from_fn(|_| vec![0.0; dim]),
+            f: vec![0.0; dim],
+            stage: vec![0.0; dim],
+            backup: vec![0.0; dim],
+        }
+    }
+
+    /// Forgets the Jacobian and factorization (after the state was replaced).
+    pub fn invalidate(&mut self) {
+        self.jac_age = None;
+        self.factored_c = None;
+    }
+
+    /// What must be saved besides state, step size and counters for a
+    /// restored run to continue bit-identically: Jacobian evaluations and
+    /// factorizations, the kept Jacobian, its age, and the factored `c`.
+    pub fn save(&self, sys: &Sys, out: &mut Vec<f64>) {
+        out.push(self.jacobians as f64);
+        out.push(self.factorizations as f64);
+        match self.jac_age {
+            None => out.push(-1.0),
+            Some(age) => {
+                out.push(f64::from(age));
+                out.push(self.factored_c.unwrap_or(-1.0));
+                sys.save_jacobian(&self.jac, out);
+            }
+        }
+    }
+
+    /// Reads what [`save`](Self::save) wrote; false (and a fresh Jacobian
+    /// at the next step) if it does not fit this system.
+    pub fn load(&mut self, sys: &Sys, src: &[f64]) -> bool {
+        self.invalidate();
+        let [jacobians, factorizations, age, rest @ ..] = src else {
+            return false;
+        };
+        let count = |x: f64| (x >= 0.0 && x.fract() == 0.0 && x < 9e15).then_some(x as u64);
+        let (Some(jacobians), Some(factorizations)) = (count(*jacobians), count(*factorizations))
+        else {
+            return false;
+        };
+        self.jacobians = jacobians;
+        self.factorizations = factorizations;
+        if *age < 0.0 {
+            return rest.is_empty();
+        }
+        let Some(age) = count(*age).and_then(|a| u32::try_from(a).ok()) else {
+            return false;
+        };
+        let [c, jac @ ..] = rest else {
+            return false;
+        };
+        if !sys.load_jacobian(&mut self.jac, jac) {
+            return false;
+        }
+        self.jac_age = Some(age);
+        if *c > 0.0 && sys.factor(&self.jac, *c, &mut self.mat) {
+            self.factored_c = Some(*c);
+        }
+        true
+    }
+
+    /// One trial step of size h from (t, y): the new state goes to
+    /// `self.stage`; returns the weighted RMS error norm (infinite if the
+    /// iteration matrix is singular).
+    #[allow(clippy::needless_range_loop)] // indices run over several parallel arrays
+    fn trial(&mut self, sys: &Sys, t: f64, y: &[f64], h: f64) -> f64 {
+        if self.jac_age.is_none() {
+            sys.jacobian(t, y, &mut self.jac);
+            self.jacobians += 1;
+            self.jac_age = Some(0);
+            self.factored_c = None;
+        }
+        let c = h * GAMMA;
+        if self.factored_c != Some(c) {
+            self.factorizations += 1;
+            if !sys.factor(&self.jac, c, &mut self.mat) {
+                self.factored_c = None;
+                return f64::INFINITY;
+            }
+            self.factored_c = Some(c);
+        }
+        let n = y.len();
+        for i in 0..S {
+            // stage state
+            let stage = &mut self.stage;
+            stage.copy_from_slice(y);
+            for j in 0..i {
+                let a = T.a[i][j];
+                if a != 0.0 {
+                    for (s, u) in stage.iter_mut().zip(&self.u[j]) {
+                        *s += a * u;
+                    }
+                }
+            }
+            sys.rhs(t + T.alpha[i] * h, stage, &mut self.f);
+            self.stats.rhs_evals += 1;
+            // right-hand side of (I - c J) U_i = c (f + sum c_ij/h U_j)
+            let (done, rest) = self.u.split_at_mut(i);
+            let ui = &mut rest[0];
+            for k in 0..n {
+                let mut r = self.f[k];
+                for (j, uj) in done.iter().enumerate() {
+                    r += T.c[i][j] / h * uj[k];
+                }
+                ui[k] = c * r;
+            }
+            sys.solve(&self.jac, &mut self.mat, ui);
+        }
+        let mut sum = 0.0;
+        for k in 0..n {
+            let mut y1 = y[k];
+            let mut err = 0.0;
+            for i in 0..S {
+                y1 += T.m[i] * self.u[i][k];
+                err += T.e[i] * self.u[i][k];
+            }
+            let w = self.abs_tol + self.rel_tol * y[k].abs().max(y1.abs());
+            let e = self.mask[k] * err / w;
+            sum += e * e;
+            self.stage[k] = y1;
+        }
+        (sum / self.controlled as f64).sqrt()
+    }
+
+    /// Integrates `y` from `*t` to exactly `t_end`. On failure `y` and `*t`
+    /// are restored to their values at the call.
+    pub fn advance(
+        &mut self,
+        sys: &Sys,
+        t: &mut f64,
+        y: &mut [f64],
+        t_end: f64,
+    ) -> Result<(), StepFailure> {
+        let t_start = *t;
+        self.backup.copy_from_slice(y);
+        let stats_start = self.stats;
+        let h_start = self.h;
+        let result = self.advance_inner(sys, t, y, t_end);
+        if result.is_err() {
+            y.copy_from_slice(&self.backup);
+            *t = t_start;
+            self.h = h_start;
+            self.stats.last_step = stats_start.last_step;
+            self.invalidate();
+        }
+        result
+    }
+
+    fn advance_inner(
+        &mut self,
+        sys: &Sys,
+        t: &mut f64,
+        y: &mut [f64],
+        t_end: f64,
+    ) -> Result<(), StepFailure> {
+        let mut steps = 0u64;
+        let mut non_finite = 0u32;
+        while *t < t_end {
+            if steps >= self.max_steps {
+                return Err(StepFailure::TooManySteps { t: *t, steps });
+            }
+            let remaining = t_end - *t;
+            let last = self.h >= remaining * (1.0 - 1e-12);
+            let h = if last { remaining } else { self.h };
+            let h_min = 16.0 * f64::EPSILON * t.abs().max(t_end.abs()).max(1e-3);
+            if h < h_min && !last {
+                return Err(StepFailure::StepTooSmall { t: *t, h });
+            }
+            let err = self.trial(sys, *t, y, h);
+            if !err.is_finite() {
+                non_finite += 1;
+                self.stats.rejected += 1;
+                if non_finite > 40 {
+                    return Err(StepFailure::NonFinite { t: *t });
+                }
+                self.jac_age = None;
+                self.h = h * 0.25;
+                continue;
+            }
+            non_finite = 0;
+            // Embedded order 2: the error scales as h^3.
+            let factor = if err == 0.0 {
+                4.0
+            } else {
+                (0.9 * err.powf(-1.0 / 3.0)).clamp(0.2, 4.0)
+            };
+            if err <= 1.0 {
+                y.copy_from_slice(&self.stage);
+                sys.after_step(y);
+                *t = if last { t_end } else { *t + h };
+                steps += 1;
+                self.stats.steps += 1;
+                self.stats.last_step = h;
+                // Small increases are skipped to keep the factorization.
+                let factor = if (1.0..KEEP_STEP_BELOW).contains(&factor) {
+                    1.0
+                } else {
+                    factor
+                };
+                self.h = if last {
+                    self.h.max(h * factor)
+                } else {
+                    h * factor
+                };
+                let age = self.jac_age.map_or(0, |a| a + 1);
+                self.jac_age = (age < self.jacobian_max_age).then_some(age);
+            } else {
+                self.stats.rejected += 1;
+                self.h = h * factor;
+                self.jac_age = None;
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Small dense test systems: the Jacobian is a dense matrix, the
+    /// iteration matrix solved by Gaussian elimination.
+    #[derive(Clone)]
+    struct Dense<F: Fn(f64, &[f64], &mut [f64]) + Clone> {
+        n: usize,
+        f: F,
+        /// Jacobian used by the method: exact (finite differences), or zero
+        /// (the W-method then degenerates to an explicit Runge-Kutta method).
+        exact: bool,
+    }
+
+    impl<F: Fn(f64, &[f64], &mut [f64]) + Clone> OdeSystem for Dense<F> {
+        fn dim(&self) -> usize {
+            self.n
+        }
+        fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
+            (self.f)(t, y, dy)
+        }
+    }
+
+    impl<F: Fn(f64, &[f64], &mut [f64]) + Clone> StiffSystem for Dense<F> {
+        type Jacobian = Vec<f64>;
+        type Matrix = Vec<f64>;
+        fn new_jacobian(&self) -> Vec<f64> {
+            vec![0.0; self.n * self.n]
+        }
+        fn new_matrix(&self) -> Vec<f64> {
+            vec![0.0; self.n * self.n]
+        }
+        fn jacobian(&self, t: f64, y: &[f64], jac: &mut Vec<f64>) {
+            jac.iter_mut().for_each(|v| *v = 0.0);
+            if !self.exact {
+                return;
+            }
+            let n = self.n;
+            let (mut a, mut b) = (vec![0.0; n], vec![0.0; n]);
+            for j in 0..n {
+                let mut yp = y.to_vec();
+                let e = 1e-7 * y[j].abs().max(1.0);
+                yp[j] += e;
+                (self.f)(t, &yp, &mut a);
+                yp[j] -= 2.0 * e;
+                (self.f)(t, &yp, &mut b);
+                for i in 0..n {
+                    jac[i * n + j] = (a[i] - b[i]) / (2.0 * e);
+                }
+            }
+        }
+        fn factor(&self, jac: &Vec<f64>, c: f64, m: &mut Vec<f64>) -> bool {
+            let n = self.n;
+            for i in 0..n {
+                for j in 0..n {
+                    m[i * n + j] = f64::from(u8::from(i == j)) - c * jac[i * n + j];
+                }
+            }
+            true
+        }
+        fn save_jacobian(&self, jac: &Vec<f64>, out: &mut Vec<f64>) {
+            out.extend_from_slice(jac);
+        }
+        fn load_jacobian(&self, jac: &mut Vec<f64>, src: &[f64]) -> bool {
+            jac.copy_from_slice(src);
+            true
+        }
+        fn solve(&self, _jac: &Vec<f64>, m: &mut Vec<f64>, b: &mut [f64]) {
+            // Gaussian elimination with partial pivoting on a copy.
+            let n = self.n;
+            let mut a = m.clone();
+            for k in 0..n {
+                let p = (k..n)
+                    .max_by(|&i, &j| a[i * n + k].abs().total_cmp(&a[j * n + k].abs()))
+                    .unwrap();
+                for j in 0..n {
+                    a.swap(k * n + j, p * n + j);
+                }
+                b.swap(k, p);
+                for i in k + 1..n {
+                    let l = a[i * n + k] / a[k * n + k];
+                    for j in k..n {
+                        a[i * n + j] -= l * a[k * n + j];
+                    }
+                    b[i] -= l * b[k];
+                }
+            }
+            for k in (0..n).rev() {
+                let mut s = b[k];
+                for j in k + 1..n {
+                    s -= a[k * n + j] * b[j];
+                }
+                b[k] = s / a[k * n + k];
+            }
+        }
+    }
+
+    /// Error at t = 1 of fixed steps h on y' = -y + sin(t) y^2-ish smooth
+    /// nonlinear non-autonomous problem, against a fine reference.
+    fn fixed_step_error(exact: bool, h: f64) -> f64 {
+        let f = |t: f64, y: &[f64], dy: &mut [f64]| {
+            dy[0] = y[1];
+            dy[1] = -y[0] - 0.5 * y[1] * y[1] + (2.0 * t).cos();
+        };
+        let run = |h: f64| {
+            let sys = Dense { n: 2, f, exact };
+            // tolerance so loose that every step is accepted: fixed steps
+            let mut ros = Rosenbrock::new(&sys, 1e3, 1e3, h, 1_000_000);
+            let mut y = vec![1.0, 0.0];
+            let mut t = 0.0;
+            let steps = (1.0 / h).round() as usize;
+            for k in 1..=steps {
+                ros.h = h;
+                ros.advance(&sys, &mut t, &mut y, k as f64 * h).unwrap();
+            }
+            y
+        };
+        let reference = run(1e-4);
+        let y = run(h);
+        (y[0] - reference[0]).abs() + (y[1] - reference[1]).abs()
+    }
+
+    #[test]
+    fn order_three_with_exact_or_zero_jacobian() {
+        // The W-method property: order 3 whatever matrix stands for J.
+        for exact in [true, false] {
+            let (e1, e2) = (fixed_step_error(exact, 0.02), fixed_step_error(exact, 0.01));
+            let order = (e1 / e2).log2();
+            assert!(
+                (2.7..3.4).contains(&order),
+                "exact J = {exact}: observed order {order} ({e1:e}, {e2:e})"
+            );
+        }
+    }
+
+    #[test]
+    fn stiff_problem_with_large_steps() {
+        // Prothero-Robinson: y' = -1e6 (y - cos t) - sin t, y = cos t.
+        let f = |t: f64, y: &[f64], dy: &mut [f64]| {
+            dy[0] = -1e6 * (y[0] - t.cos()) - t.sin();
+        };
+        let sys = Dense {
+            n: 1,
+            f,
+            exact: true,
+        };
+        let mut ros = Rosenbrock::new(&sys, 1e-6, 1e-8, 1e-3, 100_000);
+        let mut y = vec![1.0];
+        let mut t = 0.0;
+        ros.advance(&sys, &mut t, &mut y, 2.0).unwrap();
+        assert_eq!(t, 2.0);
+        assert!((y[0] - 2f64.cos()).abs() < 1e-6, "{}", y[0]);
+        // An explicit method would need ~1e6 steps (stability h < 2.8e-6).
+        assert!(ros.stats.steps < 2000, "{:?}", ros.stats);
+    }
+
+    #[test]
+    fn tolerance_controls_error_and_failure_restores() {
+        let f = |_t: f64, y: &[f64], dy: &mut [f64]| {
+            dy[0] = y[1];
+            dy[1] = -y[0];
+        };
+        let sys = Dense {
+            n: 2,
+            f,
+            exact: true,
+        };
+        let mut prev = f64::INFINITY;
+        for tol in [1e-4, 1e-6, 1e-8] {
+            let mut ros = Rosenbrock::new(&sys, tol, tol, 1e-3, 1_000_000);
+            let mut y = vec![1.0, 0.0];
+            let mut t = 0.0;
+            for k in 1..=100 {
+                ros.advance(&sys, &mut t, &mut y, k as f64 * 0.1).unwrap();
+                assert_eq!(t, k as f64 * 0.1);
+            }
+            let err = (y[0] - 10f64.cos()).abs() + (y[1] + 10f64.sin()).abs();
+            assert!(err < 1000.0 * tol && err < prev, "tol {tol}: {err}");
+            prev = err;
+        }
+        let mut ros = Rosenbrock::new(&sys, 1e-12, 1e-12, 1e-3, 3);
+        let mut y = vec![1.0, 0.0];
+        let mut t = 0.25;
+        assert!(ros.advance(&sys, &mut t, &mut y, 50.0).is_err());
+        assert_eq!((t, y), (0.25, vec![1.0, 0.0]));
+    }
+}

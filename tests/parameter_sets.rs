@@ -1,0 +1,106 @@
+//! The SSP parameter sets in `parameters/` applied through the FMU adapter
+//! (the same variable names and setters the C API uses): the paper's two
+//! drives must give exactly `DriveParams::kubas_section3()` and
+//! `kubas_section4()`, and the accessory drive must lay out and run.
+
+use std::path::Path;
+
+use belt_drive::belt::{Drive, DriveParams};
+use belt_drive::fmi::FmuModel;
+use belt_drive::fmu_model::BeltDrive;
+use belt_drive::variables::{by_name, Causality, VarType};
+use quick_xml::events::Event;
+use quick_xml::Reader;
+
+/// (name, element, value) of every `ssv:Parameter` in an .ssv file.
+fn read_ssv(path: &Path) -> Vec<(String, String, String)> {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{path:?}: {e}"));
+    let mut reader = Reader::from_str(&text);
+    let mut out = Vec::new();
+    let mut name = None;
+    loop {
+        match reader.read_event().expect("well-formed XML") {
+            Event::Start(e) | Event::Empty(e) => {
+                let attr = |key: &str| {
+                    e.try_get_attribute(key)
+                        .unwrap()
+                        .map(|a| a.unescape_value().unwrap().into_owned())
+                };
+                match e.name().as_ref() {
+                    b"ssv:Parameter" => name = attr("name"),
+                    b"ssv:Real" | b"ssv:Integer" | b"ssv:Boolean" => {
+                        let kind = String::from_utf8(e.name().as_ref()[4..].to_vec()).unwrap();
+                        let n = name.take().expect("value inside ssv:Parameter");
+                        out.push((n, kind, attr("value").expect("value attribute")));
+                    }
+                    _ => {}
+                }
+            }
+            Event::Eof => break,
+            _ => {}
+        }
+    }
+    out
+}
+
+/// A fresh adapter with every parameter of the file set, as an importer
+/// would through fmi2SetReal/Integer/Boolean.
+fn apply(file: &str) -> BeltDrive {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("parameters")
+        .join(file);
+    let params = read_ssv(&path);
+    assert!(!params.is_empty(), "{file}: no parameters");
+    let mut m = BeltDrive::new();
+    for (name, kind, value) in params {
+        let v = by_name(&name).unwrap_or_else(|| panic!("{file}: no variable {name}"));
+        assert!(
+            matches!(v.causality, Causality::Parameter),
+            "{file}: {name} is not a parameter"
+        );
+        let r = match (kind.as_str(), v.ty) {
+            ("Real", VarType::Real) => m.set_real(v, value.parse().unwrap()),
+            ("Integer", VarType::Integer) => m.set_integer(v, value.parse().unwrap()),
+            ("Boolean", VarType::Boolean) => m.set_boolean(v, value == "true" || value == "1"),
+            _ => panic!("{file}: {name} is {:?}, the file gives {kind}", v.ty),
+        };
+        r.unwrap_or_else(|e| panic!("{file}: {name} = {value}: {e}"));
+    }
+    m
+}
+
+#[test]
+fn section3_file_is_the_papers_verification_drive() {
+    let p = apply("kubas2014-section3.ssv").drive_params().unwrap();
+    assert_eq!(p, DriveParams::kubas_section3());
+}
+
+#[test]
+fn section4_file_is_the_default_drive() {
+    let p = apply("kubas2014-section4.ssv").drive_params().unwrap();
+    assert_eq!(p, DriveParams::kubas_section4());
+    // and so are the model description's start values, bit for bit.
+    assert_eq!(BeltDrive::new().drive_params().unwrap(), p);
+}
+
+#[test]
+fn accessory_drive_lays_out_and_runs() {
+    let p = apply("accessory-drive-4.ssv").drive_params().unwrap();
+    assert_eq!(p.pulleys.len(), 4);
+    assert_eq!(
+        p.pulleys.iter().filter(|q| q.back_side).count(),
+        1,
+        "one back-side idler"
+    );
+    p.validate().unwrap();
+    let mut d = Drive::new(&p, 0.0).expect("the accessory drive lays out");
+    let wraps: Vec<f64> = (0..4)
+        .map(|j| d.layout().wrap_of(j).unwrap().angle.to_degrees())
+        .collect();
+    // Crank, AC compressor, alternator > 90 deg; the idler deflects the span.
+    assert!(wraps[..3].iter().all(|&w| w > 90.0), "{wraps:?}");
+    assert!(wraps[3] > 20.0 && wraps[3] < 90.0, "{wraps:?}");
+    d.advance(1e-3).unwrap();
+    let o = d.outputs();
+    assert!(o.min_tension > 0.0, "{}", o.min_tension);
+}

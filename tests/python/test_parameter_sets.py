@@ -1,0 +1,135 @@
+"""The SSP parameter sets in parameters/*.ssv through FMPy: schema-valid
+(SSP 1.0), every entry a parameter of the FMU with its type and unit, the
+units' SI exponents those of the model description, and each set applied
+with examples/simulate_ssv.py (the README's recipe) simulates a few
+milliseconds. (tests/parameter_sets.rs checks the values of the paper's two
+drives against src/belt/params.rs.)"""
+import importlib.util
+import math
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import pytest
+from fmpy.ssp.ssd import read_ssv
+
+from conftest import FMU, ROOT
+
+SETS = sorted((ROOT / "parameters").glob("*.ssv"))
+NS = {"ssv": "http://ssp-standard.org/SSP1/SystemStructureParameterValues",
+      "ssc": "http://ssp-standard.org/SSP1/SystemStructureCommon"}
+BASE = ["kg", "m", "s", "A", "K", "mol", "cd", "rad"]
+
+
+def load_example():
+    spec = importlib.util.spec_from_file_location("simulate_ssv", ROOT / "examples/simulate_ssv.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def unit_of(v):
+    return v.unit or (v.declaredType.unit if v.declaredType is not None else None)
+
+
+def test_the_three_drives_are_there():
+    assert [p.name for p in SETS] == [
+        "accessory-drive-4.ssv", "kubas2014-section3.ssv", "kubas2014-section4.ssv"]
+
+
+@pytest.mark.parametrize("path", SETS, ids=lambda p: p.stem)
+def test_names_types_units(path, md):
+    variables = {v.name: v for v in md.modelVariables}
+    parameter_set = read_ssv(str(path))  # validates against the SSP 1.0 schema
+    assert parameter_set.name == path.stem
+    names = [p.name for p in parameter_set.parameters]
+    assert len(names) == len(set(names)), "duplicates"
+    root = ET.parse(path).getroot()
+    for p in parameter_set.parameters:
+        v = variables.get(p.name)
+        assert v is not None and v.causality == "parameter", p.name
+        assert p.type == v.type, (p.name, p.type, v.type)
+        if p.type == "Real":
+            assert p.unit == unit_of(v), (p.name, p.unit, unit_of(v))
+            assert math.isfinite(float(p.value))
+    # Every unit used is defined in the file with the model description's exponents.
+    fmu_units = {u.name: u for u in md.unitDefinitions}
+    file_units = {u.get("name"): u.find("ssc:BaseUnit", NS) for u in root.iterfind("ssv:Units/ssc:Unit", NS)}
+    used = {p.unit for p in parameter_set.parameters if p.type == "Real"}
+    assert used == set(file_units)
+    for name, base in file_units.items():
+        expected = fmu_units[name].baseUnit
+        for e in BASE:
+            assert int(base.get(e, 0)) == int(getattr(expected, e) or 0), (name, e)
+
+
+def test_section4_file_holds_the_fmu_defaults(md):
+    variables = {v.name: v for v in md.modelVariables}
+    parameter_set = read_ssv(str(ROOT / "parameters/kubas2014-section4.ssv"))
+    for p in parameter_set.parameters:
+        start = variables[p.name].start
+        if p.type == "Real":
+            assert float(p.value) == float(start), p.name
+        else:
+            assert p.value.lower() == str(start).lower(), p.name
+
+
+@pytest.mark.parametrize("path", SETS, ids=lambda p: p.stem)
+def test_applied_through_fmpy(path):
+    ex = load_example()
+    start = ex.start_values(path)
+    n = start["nPulleys"]
+    outputs = [f"pulley[{j}].omega" for j in range(1, n + 1)] + \
+              [f"span[{k}].tension" for k in range(1, n + 1)] + ["belt.minTension"]
+    stop = 0.005
+    res = ex.simulate(path, stop_time=stop, output_interval=1e-3, output=outputs, fmu=FMU)
+    assert res["time"][-1] == pytest.approx(stop)
+    for name in outputs:
+        assert np.all(np.isfinite(res[name])), name
+    # Speed-driven pulleys follow their ramp; the belt stays in tension.
+    for j in range(1, n + 1):
+        if start.get(f"pulley[{j}].speedDriven"):
+            ramp = start[f"pulley[{j}].omegaRamp"] * min(stop / start[f"pulley[{j}].rampTime"], 1)
+            assert res[f"pulley[{j}].omega"][-1] == pytest.approx(ramp, rel=1e-12)
+    assert np.all(res["belt.minTension"] > 0)
+    # At a few ms the spans are still near the preload.
+    preload = start["belt.preload"]
+    for k in range(1, n + 1):
+        assert np.all(np.abs(res[f"span[{k}].tension"] - preload) < 0.2 * preload), k
+
+
+SSD = """<?xml version="1.0" encoding="UTF-8"?>
+<ssd:SystemStructureDescription xmlns:ssd="http://ssp-standard.org/SSP1/SystemStructureDescription"
+    version="1.0" name="AccessoryDrive">
+  <ssd:System name="engineBay">
+    <ssd:Elements>
+      <ssd:Component name="beltDrive" type="application/x-fmu-sharedlibrary"
+          source="resources/BeltDrive.fmu">
+        <ssd:ParameterBindings>
+          <ssd:ParameterBinding source="resources/{ssv}"/>
+        </ssd:ParameterBindings>
+      </ssd:Component>
+    </ssd:Elements>
+  </ssd:System>
+</ssd:SystemStructureDescription>
+"""
+
+
+@pytest.mark.parametrize("path", SETS, ids=lambda p: p.stem)
+def test_bound_in_an_ssp(path, tmp_path):
+    """The README's SSP recipe: the FMU and an .ssv as resources of an .ssp,
+    bound to the component without a prefix (the .ssv names are the FMU's
+    variable names). FMPy's SSP reader validates the .ssd against the SSP 1.0
+    schema and resolves the binding."""
+    import zipfile
+    from fmpy.ssp.ssd import read_ssd
+
+    ssp = tmp_path / "BeltDrive.ssp"
+    with zipfile.ZipFile(ssp, "w") as z:
+        z.writestr("SystemStructure.ssd", SSD.format(ssv=path.name))
+        z.write(FMU, "resources/BeltDrive.fmu")
+        z.write(path, f"resources/{path.name}")
+    component = read_ssd(str(ssp)).system.elements[0]
+    (binding,) = component.parameterBindings
+    assert binding.prefix in (None, "")
+    (values,) = binding.parameterValues
+    assert [p.name for p in values.parameters] == [p.name for p in read_ssv(str(path)).parameters]
