@@ -245,7 +245,7 @@ impl FmuModel for BeltDrive {
                 zone_bodies: 0,
                 probe_body: 108,
                 method: 1,
-                max_steps: 100_000_000,
+                max_steps: 100_000,
             },
             inputs: Inputs::default(),
             start_time: 0.0,

@@ -91,6 +91,26 @@ fn impossible_drives_are_refused_with_the_parameter_named() {
     assert_eq!(name, "belt.nBodies");
     assert!(msg.contains("use belt.nBodies >="), "{msg}");
 
+    // Bodies longer than the pulley diameter (no pitch angle at all): the
+    // advice is still a body count that works (was "use belt.nBodies >= 0").
+    for n in [3, 4, 6] {
+        let mut p = base.clone();
+        p.belt.n_bodies = n;
+        p.probe_body = 0;
+        let (name, msg) = err_of(&p);
+        assert_eq!(name, "belt.nBodies");
+        let advice: usize = msg
+            .rsplit("use belt.nBodies >= ")
+            .next()
+            .and_then(|s| s.parse().ok())
+            .unwrap_or_else(|| panic!("{msg}"));
+        p.belt.n_bodies = advice;
+        assert!(
+            Layout::new(&p).is_ok(),
+            "{n} bodies: advice {advice} fails: {msg}"
+        );
+    }
+
     let mut p = base.clone();
     p.pulleys[0].radius = -0.01;
     assert_eq!(err_of(&p).0, "pulley[1].radius");

@@ -67,29 +67,37 @@ impl Friction {
     #[inline(always)]
     pub fn coefficient(&self, v_t: f64, z: f64, mu_s: f64, mu_k: f64) -> f64 {
         match self.law {
-            FrictionLaw::Creep => {
-                let u = z * self.inv_creep_max;
-                let a = u.abs();
-                if a <= 1.0 {
-                    mu_s * s_curve(u)
-                } else {
-                    let mu = mu_s + (mu_k - mu_s) * smoothstep((a - 1.0) * 2.0);
-                    mu.copysign(u)
-                }
-            }
-            FrictionLaw::Kubas2014 => {
-                let w = v_t.abs() * self.inv_dv;
-                if w < 1.0 {
-                    // eq. 13: mu = (1 - beta) mu1(Delta) + beta mu_s
-                    let beta = s_curve(w);
-                    let mu1 = mu_s * s_curve(z * self.inv_creep_max);
-                    (1.0 - beta) * mu1 + (beta * mu_s).copysign(v_t)
-                } else {
-                    // Fig. 6c: mu_s -> mu_k over dv..1.5 dv, then mu_k.
-                    let mu = mu_s + (mu_k - mu_s) * smoothstep((w - 1.0) * 2.0);
-                    mu.copysign(v_t)
-                }
-            }
+            FrictionLaw::Creep => self.creep_coefficient(z, mu_s, mu_k),
+            FrictionLaw::Kubas2014 => self.kubas_coefficient(v_t, z, mu_s, mu_k),
+        }
+    }
+
+    /// [`Self::coefficient`] of the creep law.
+    #[inline(always)]
+    pub fn creep_coefficient(&self, z: f64, mu_s: f64, mu_k: f64) -> f64 {
+        let u = z * self.inv_creep_max;
+        let a = u.abs();
+        if a <= 1.0 {
+            mu_s * s_curve(u)
+        } else {
+            let mu = mu_s + (mu_k - mu_s) * smoothstep((a - 1.0) * 2.0);
+            mu.copysign(u)
+        }
+    }
+
+    /// [`Self::coefficient`] of the kubas2014 law.
+    #[inline(always)]
+    pub fn kubas_coefficient(&self, v_t: f64, z: f64, mu_s: f64, mu_k: f64) -> f64 {
+        let w = v_t.abs() * self.inv_dv;
+        if w < 1.0 {
+            // eq. 13: mu = (1 - beta) mu1(Delta) + beta mu_s
+            let beta = s_curve(w);
+            let mu1 = mu_s * s_curve(z * self.inv_creep_max);
+            (1.0 - beta) * mu1 + (beta * mu_s).copysign(v_t)
+        } else {
+            // Fig. 6c: mu_s -> mu_k over dv..1.5 dv, then mu_k.
+            let mu = mu_s + (mu_k - mu_s) * smoothstep((w - 1.0) * 2.0);
+            mu.copysign(v_t)
         }
     }
 

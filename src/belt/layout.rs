@@ -300,19 +300,25 @@ impl Layout {
         // a large part of a pulley.
         for w in &wraps {
             let per_arc = w.angle / w.pitch_angle;
-            let need = (3.0 * w.pitch_angle / w.angle).max(w.pitch_angle / 0.5);
-            if per_arc < 3.0 || w.pitch_angle > 0.5 {
+            // A body longer than the pulley's diameter has no pitch angle at
+            // all (NaN or negative): also too coarse.
+            let resolved = w.pitch_angle > 0.0 && w.pitch_angle <= 0.5 && per_arc >= 3.0;
+            if !resolved {
                 let n = params.belt.n_bodies;
+                let r = params.pulleys[w.pulley].radius;
+                // Longest body that meets both conditions on this wrap.
+                let l_max = r * (w.angle / 3.0).min(0.5);
                 return Err(param_error(
                     "belt.nBodies",
                     format!(
-                        "{n} bodies put {per_arc:.1} bodies on the {:.0} deg wrap of pulley[{}] \
-                         (body pitch {:.0} deg of arc); at least 3 per wrap and at most 29 deg each \
-                         are needed: use belt.nBodies >= {}",
+                        "{n} bodies of {:.1} mm are too coarse for the {:.0} deg wrap of pulley[{}] \
+                         (radius {:.1} mm): at least 3 bodies per wrap and at most 29 deg of arc \
+                         each are needed: use belt.nBodies >= {}",
+                        body_length * 1e3,
                         w.angle.to_degrees(),
                         w.pulley + 1,
-                        w.pitch_angle.to_degrees(),
-                        (n as f64 * need).ceil() as usize
+                        r * 1e3,
+                        (path_length / l_max).ceil() as usize
                     ),
                 ));
             }

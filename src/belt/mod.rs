@@ -7,6 +7,9 @@
 //! * [`friction`]: the two friction laws, eq. 12-19 and ref. [11];
 //! * [`model`]: equations of motion, eq. 20-24 (the right-hand side);
 //! * [`rkf45`]: the adaptive Runge-Kutta-Fehlberg 4(5) integrator;
+//! * [`jacobian`], [`iteration_matrix`], [`rosenbrock`]: the stiff
+//!   integrator (Rosenbrock-W ROS34PW2, analytic Jacobian, O(n) stage solve);
+//! * [`trig`]: branch-free sine, cosine and angle wrap for the vectorised loops;
 //! * [`drive`]: a drive that runs, with its outputs.
 
 pub mod contact;
@@ -19,6 +22,7 @@ pub mod model;
 pub mod params;
 pub mod rkf45;
 pub mod rosenbrock;
+pub mod trig;
 
 pub use drive::{Drive, Outputs};
 pub use model::Inputs;

@@ -196,7 +196,8 @@ pub unsafe fn instantiate<M: FmuModel>(
     result.unwrap_or(ptr::null_mut())
 }
 
-/// fmi2FreeInstance. NULL is ignored.
+/// fmi2FreeInstance. NULL is ignored. FMU states of the instance that the
+/// importer did not free are freed with it.
 ///
 /// # Safety
 /// As for `with_instance`; `c` must not be used afterwards.
@@ -206,7 +207,13 @@ pub unsafe fn free_instance<M: FmuModel>(c: Fmi2Component) {
     }
     // SAFETY: `c` came from `instantiate::<M>` (Box::into_raw) and is freed once.
     let inst = unsafe { Box::from_raw(c as *mut Instance<M>) };
-    inst.logger.log(Fmi2Status::Ok, LOG_EVENTS, "freed");
+    let left = inst.states.len();
+    let message = if left == 0 {
+        "freed".to_string()
+    } else {
+        format!("freed, with {left} FMU state(s) the importer had not freed")
+    };
+    inst.logger.log(Fmi2Status::Ok, LOG_EVENTS, &message);
     // Dropping the model must not unwind into C either.
     let _ = panic::catch_unwind(AssertUnwindSafe(move || drop(inst)));
 }
@@ -441,42 +448,25 @@ pub unsafe fn set_string<M: FmuModel>(
 
 // -- FMU state ------------------------------------------------------------
 
-/// A live snapshot behind an `fmi2FMUstate`.
-///
-/// # Safety
-/// `s` is NULL or was returned by fmi2GetFMUstate/fmi2DeSerializeFMUstate of
-/// this library (same `M`) and not freed.
-unsafe fn snapshot<'a, M: FmuModel>(
-    s: Fmi2FmuState,
-    what: &str,
-) -> Result<&'a mut Snapshot<M>, String> {
-    if s.is_null() {
-        return Err(format!("{what} is a NULL pointer"));
-    }
-    // SAFETY: see the contract.
-    let snap = unsafe { &mut *(s as *mut Snapshot<M>) };
-    if !snap.is_live() {
-        return Err(format!(
-            "{what} is not an FMU state of this FMU (freed already?)"
-        ));
-    }
-    Ok(snap)
-}
-
 /// Store `snap` in `*out`: into the existing state if `*out` is not NULL
-/// (FMI 2.0 allows reusing it), else in a new allocation.
+/// (FMI 2.0 allows reusing it; it must be a live state of this instance),
+/// else in a new registered allocation.
 ///
 /// # Safety
-/// `out` is non-NULL and `*out` satisfies the contract of [`snapshot`].
-unsafe fn store<M: FmuModel>(out: *mut Fmi2FmuState, snap: Snapshot<M>) -> Result<(), String> {
-    // SAFETY: `out` is non-NULL (checked by the callers) and writable.
+/// `out` is non-NULL and points to a readable and writable `fmi2FMUstate`.
+unsafe fn store<M: FmuModel>(
+    inst: &mut Instance<M>,
+    out: *mut Fmi2FmuState,
+    snap: Snapshot<M>,
+) -> Result<(), String> {
+    // SAFETY: `out` is non-NULL (checked by the callers) and readable.
     let existing = unsafe { *out };
     if existing.is_null() {
-        // SAFETY: as above.
-        unsafe { *out = Box::into_raw(Box::new(snap)) as Fmi2FmuState };
+        let p = inst.states.insert(snap);
+        // SAFETY: as above, writable.
+        unsafe { *out = p as Fmi2FmuState };
     } else {
-        // SAFETY: forwarded contract.
-        *unsafe { snapshot::<M>(existing, "*FMUstate")? } = snap;
+        *inst.states.get(existing, "*FMUstate")? = snap;
     }
     Ok(())
 }
@@ -490,8 +480,8 @@ pub unsafe fn get_fmu_state<M: FmuModel>(c: Fmi2Component, state: *mut Fmi2FmuSt
             return Err("FMUstate is a NULL pointer".into());
         }
         let snap = Snapshot::new(inst.plumbing, inst.model.clone());
-        // SAFETY: non-NULL; `*state` is NULL or a state of ours.
-        unsafe { store(state, snap)? };
+        // SAFETY: non-NULL and points to the importer's `fmi2FMUstate`.
+        unsafe { store(inst, state, snap)? };
         Ok(Fmi2Status::Ok)
     };
     // SAFETY: forwarded contract.
@@ -499,14 +489,14 @@ pub unsafe fn get_fmu_state<M: FmuModel>(c: Fmi2Component, state: *mut Fmi2FmuSt
 }
 
 /// # Safety
-/// As for `with_instance`; `state` as in [`snapshot`].
+/// As for `with_instance`; `state` is any value (checked against the instance's live states before use).
 pub unsafe fn set_fmu_state<M: FmuModel>(c: Fmi2Component, state: Fmi2FmuState) -> Fmi2Status {
     let body = move |inst: &mut Instance<M>| {
         inst.check_state(allowed::FMU_STATE)?;
-        // SAFETY: the importer passes a state of ours.
-        let snap = unsafe { snapshot::<M>(state, "FMUstate")? };
-        inst.model = snap.model.clone();
-        inst.plumbing = snap.plumbing;
+        let snap = inst.states.get(state, "FMUstate")?;
+        let (model, plumbing) = (snap.model.clone(), snap.plumbing);
+        inst.model = model;
+        inst.plumbing = plumbing;
         let p = inst.plumbing;
         inst.logger.log(
             Fmi2Status::Ok,
@@ -534,12 +524,8 @@ pub unsafe fn free_fmu_state<M: FmuModel>(
         if state.is_null() || unsafe { *state }.is_null() {
             return Ok(Fmi2Status::Ok);
         }
-        // SAFETY: `*state` is one of ours (checked as far as possible).
-        let snap = unsafe { snapshot::<M>(*state, "*FMUstate")? };
-        snap.kill();
-        // SAFETY: allocated by `store` with Box::into_raw, freed exactly once
-        // because the importer's pointer is cleared.
-        drop(unsafe { Box::from_raw(*state as *mut Snapshot<M>) });
+        // SAFETY: `state` is non-NULL and readable.
+        inst.states.free(unsafe { *state }, "*FMUstate")?;
         // SAFETY: `state` is non-NULL and writable.
         unsafe { *state = ptr::null_mut() };
         Ok(Fmi2Status::Ok)
@@ -549,7 +535,7 @@ pub unsafe fn free_fmu_state<M: FmuModel>(
 }
 
 /// # Safety
-/// As for `with_instance`; `state` as in [`snapshot`]; `size` NULL or writable.
+/// As for `with_instance`; `state` is any value (checked against the instance's live states before use); `size` NULL or writable.
 pub unsafe fn serialized_fmu_state_size<M: FmuModel>(
     c: Fmi2Component,
     state: Fmi2FmuState,
@@ -557,8 +543,7 @@ pub unsafe fn serialized_fmu_state_size<M: FmuModel>(
 ) -> Fmi2Status {
     let body = move |inst: &mut Instance<M>| {
         inst.check_state(allowed::FMU_STATE)?;
-        // SAFETY: the importer passes a state of ours.
-        let snap = unsafe { snapshot::<M>(state, "FMUstate")? };
+        let snap = inst.states.get(state, "FMUstate")?;
         if size.is_null() {
             return Err("size is a NULL pointer".into());
         }
@@ -571,7 +556,7 @@ pub unsafe fn serialized_fmu_state_size<M: FmuModel>(
 }
 
 /// # Safety
-/// As for `with_instance`; `state` as in [`snapshot`]; `bytes` has `size`
+/// As for `with_instance`; `state` is any value (checked against the instance's live states before use); `bytes` has `size`
 /// writable bytes.
 pub unsafe fn serialize_fmu_state<M: FmuModel>(
     c: Fmi2Component,
@@ -581,8 +566,7 @@ pub unsafe fn serialize_fmu_state<M: FmuModel>(
 ) -> Fmi2Status {
     let body = move |inst: &mut Instance<M>| {
         inst.check_state(allowed::FMU_STATE)?;
-        // SAFETY: the importer passes a state of ours.
-        let data = unsafe { snapshot::<M>(state, "FMUstate")? }.serialize();
+        let data = inst.states.get(state, "FMUstate")?.serialize();
         if size != data.len() {
             return Err(format!(
                 "size = {size}, but the serialized state has {} bytes (from fmi2SerializedFMUstateSize)",
@@ -615,8 +599,8 @@ pub unsafe fn deserialize_fmu_state<M: FmuModel>(
             return Err("FMUstate is a NULL pointer".into());
         }
         let snap = Snapshot::<M>::deserialize(data)?;
-        // SAFETY: non-NULL; `*state` is NULL or a state of ours.
-        unsafe { store(state, snap)? };
+        // SAFETY: non-NULL and points to the importer's `fmi2FMUstate`.
+        unsafe { store(inst, state, snap)? };
         Ok(Fmi2Status::Ok)
     };
     // SAFETY: forwarded contract.

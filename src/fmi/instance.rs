@@ -23,6 +23,7 @@ use std::ffi::CString;
 
 use super::logging::{self, Logger, LOG_ALL, LOG_EVENTS, LOG_STATUS_DISCARD};
 use super::model::{FmuModel, StepError};
+use super::state::Registry;
 use super::types::{Fmi2Status, Fmi2String};
 use crate::variables::{Causality, VarInfo, VarType, Variability, VARIABLES};
 
@@ -128,6 +129,8 @@ pub struct Instance<M> {
     pub logger: Logger,
     pub plumbing: Plumbing,
     pub model: M,
+    /// The FMU states handed out and not yet freed (freed with the instance).
+    pub states: Registry<M>,
     /// Keeps the strings handed out by fmi2GetString alive until the next call.
     strings: Vec<CString>,
 }
@@ -138,6 +141,7 @@ impl<M: FmuModel> Instance<M> {
             logger,
             plumbing: Plumbing::default(),
             model: M::new(),
+            states: Registry::default(),
             strings: Vec::new(),
         }
     }

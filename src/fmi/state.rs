@@ -20,6 +20,10 @@
 //! Deserialization checks magic, version, bounds (truncation), GUID and
 //! checksum, and never reads past the end of the buffer.
 
+use std::collections::HashSet;
+use std::ffi::c_void;
+use std::marker::PhantomData;
+
 use super::instance::{Mode, Plumbing};
 use super::model::FmuModel;
 use crate::variables::GUID;
@@ -27,8 +31,8 @@ use crate::variables::GUID;
 pub const MAGIC: &[u8; 8] = b"BELTFMU\0";
 pub const FORMAT_VERSION: u32 = 1;
 
-/// Marks a live `Snapshot` in memory, so an obviously foreign or freed
-/// pointer handed to fmi2SetFMUstate is refused rather than used.
+/// Marks a live `Snapshot` in memory (a second line of defence behind
+/// [`Registry`]; cleared when the state is freed).
 const LIVE_TAG: u64 = 0x4245_4c54_5354_4154; // "BELTSTAT"
 
 /// What an `fmi2FMUstate` points to.
@@ -134,6 +138,80 @@ impl<M: FmuModel> Snapshot<M> {
             },
             model,
         ))
+    }
+}
+
+/// The FMU states one instance has handed out and not yet freed (FMI 2.0
+/// section 2.1.8: a state belongs to the instance that made it).
+///
+/// An `fmi2FMUstate` from the importer is looked up here *before* it is
+/// dereferenced, so a pointer this instance never handed out (another
+/// instance's state, an uninitialised variable, a state freed already) is
+/// refused with fmi2Error instead of being read. fmi2FreeInstance frees
+/// the states the importer left (the standard: it "frees all the allocated
+/// memory ... allocated by the functions of the FMU interface").
+pub struct Registry<M> {
+    live: HashSet<usize>,
+    _model: PhantomData<M>,
+}
+
+impl<M> Default for Registry<M> {
+    fn default() -> Self {
+        Registry {
+            live: HashSet::new(),
+            _model: PhantomData,
+        }
+    }
+}
+
+impl<M: FmuModel> Registry<M> {
+    /// A new heap state, registered; the pointer goes to the importer.
+    pub fn insert(&mut self, snap: Snapshot<M>) -> *mut Snapshot<M> {
+        let p = Box::into_raw(Box::new(snap));
+        self.live.insert(p as usize);
+        p
+    }
+
+    /// The live state behind `p`, if this instance handed it out.
+    pub fn get(&mut self, p: *mut c_void, what: &str) -> Result<&mut Snapshot<M>, String> {
+        if p.is_null() {
+            return Err(format!("{what} is a NULL pointer"));
+        }
+        if !self.live.contains(&(p as usize)) {
+            return Err(format!(
+                "{what} = {p:p} is not a live FMU state of this instance (freed already, from another instance, or never set)"
+            ));
+        }
+        // SAFETY: registered by `insert` (a live Box of this type) and not
+        // yet freed; `&mut self` makes the access exclusive.
+        Ok(unsafe { &mut *(p as *mut Snapshot<M>) })
+    }
+
+    /// Free the state behind `p` (which `get` accepts).
+    pub fn free(&mut self, p: *mut c_void, what: &str) -> Result<(), String> {
+        self.get(p, what)?.kill();
+        self.live.remove(&(p as usize));
+        // SAFETY: allocated by `insert` with Box::into_raw and removed from
+        // the registry above, so freed exactly once.
+        drop(unsafe { Box::from_raw(p as *mut Snapshot<M>) });
+        Ok(())
+    }
+
+    pub fn len(&self) -> usize {
+        self.live.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.live.is_empty()
+    }
+}
+
+impl<M> Drop for Registry<M> {
+    fn drop(&mut self) {
+        for p in self.live.drain() {
+            // SAFETY: every registered pointer is a live Box<Snapshot<M>>.
+            drop(unsafe { Box::from_raw(p as *mut Snapshot<M>) });
+        }
     }
 }
 

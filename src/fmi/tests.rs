@@ -733,7 +733,14 @@ fn serialization_round_trip_and_refusals() {
     extra.push(0);
     refuse(&extra, "unexpected bytes");
 
-    for p in [&mut s, &mut s2] {
-        assert_eq!(unsafe { api::free_fmu_state::<Mock>(f.c, p) }, OK);
-    }
+    // A state belongs to the instance that made it (FMI 2.0 section 2.1.8):
+    // another instance refuses it without dereferencing it.
+    let h = Fmu::new();
+    assert_eq!(unsafe { api::set_fmu_state::<Mock>(h.c, s2) }, ERR);
+    h.assert_error_logged("not a live FMU state of this instance");
+    assert_eq!(unsafe { api::free_fmu_state::<Mock>(f.c, &mut s2) }, ERR);
+    assert!(!s2.is_null(), "a refused free leaves the pointer alone");
+
+    assert_eq!(unsafe { api::free_fmu_state::<Mock>(f.c, &mut s) }, OK);
+    assert_eq!(unsafe { api::free_fmu_state::<Mock>(g.c, &mut s2) }, OK);
 }

@@ -1,4 +1,4 @@
-//! Project tasks: `cargo xtask <fmu|venv|run|crosscheck|fmi-sim|test>`.
+//! Project tasks: `cargo xtask <fmu|venv|run|validate|crosscheck|fmi-sim|test|valgrind>`.
 //!
 //! * `fmu`  - release build, then `dist/BeltDrive.fmu` (model description with
 //!   its GUID, the Linux binary, generated documentation, model icon).
@@ -8,8 +8,15 @@
 //! * `crosscheck` - reference results in the FMI cross-check layout beside
 //!   the FMU: `dist/BeltDrive_{ref.csv,ref.opt,in.csv}` (FMPy).
 //! * `fmi-sim` - install the pinned rust-fmi `fmi-sim` into `.tools/`.
-//! * `test` - everything CI runs: fmt, clippy, cargo tests, FMU, cross-check
-//!   files, fmi-sim, pytest (FMPy and fmi-sim).
+//! * `test` - everything CI runs: fmt, clippy, cargo tests, valgrind (if
+//!   installed), FMU, cross-check files, fmi-sim, pytest (FMPy and fmi-sim).
+//! * `valgrind` - memcheck over instantiate / step / FMU-state / free cycles
+//!   of the built library (`examples/valgrind_driver.rs`).
+//! * `validate` - the validation report: both paper drives, the closed-form
+//!   panel and the convergence studies through the built FMU
+//!   (`validation/validate.py`; plots in `docs/validation/`, tables in
+//!   `docs/validation.md` and `docs/model.md`). Arguments after `--` go to
+//!   the script (`--quick --out DIR`, `--method`, `--dv`, `--jobs`, ...).
 
 mod docs;
 #[path = "../../modelDescription/guid.rs"]
@@ -149,6 +156,19 @@ fn crosscheck(args: &[String]) -> Result<()> {
     )
 }
 
+/// `cargo xtask validate [-- --quick --out DIR ...]`
+fn validate(args: &[String]) -> Result<()> {
+    let args = args.strip_prefix(&["--".to_string()]).unwrap_or(args);
+    fmu()?;
+    venv()?;
+    run(
+        Command::new(venv_python())
+            .arg("validation/validate.py")
+            .args(args),
+        "validation report",
+    )
+}
+
 fn test() -> Result<()> {
     run(
         cargo().args(["fmt", "--all", "--", "--check"]),
@@ -169,6 +189,11 @@ fn test() -> Result<()> {
         cargo().args(["test", "--workspace", "--release"]),
         "cargo test",
     )?;
+    if have_valgrind() {
+        valgrind()?;
+    } else {
+        eprintln!("xtask: valgrind not found: skipping the memory check (cargo xtask valgrind)");
+    }
     crosscheck(&[])?;
     let fmi_sim = tools::fmi_sim()?;
     run(
@@ -179,16 +204,62 @@ fn test() -> Result<()> {
     )
 }
 
+/// Whether `valgrind` can be started.
+fn have_valgrind() -> bool {
+    Command::new("valgrind")
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success())
+}
+
+/// valgrind memcheck over the FMU library: `examples/valgrind_driver.rs`
+/// loads it with dlopen and runs instantiate / step / FMU-state / free
+/// cycles. Fails on any memcheck error or a definite or indirect leak
+/// ("possibly lost" and "still reachable" blocks of the Rust runtime and of
+/// dlopen are not errors).
+fn valgrind() -> Result<()> {
+    run(
+        cargo().args([
+            "build",
+            "--release",
+            "--lib",
+            "--example",
+            "valgrind_driver",
+            "-p",
+            "belt_drive",
+        ]),
+        "release build of the library and the valgrind driver",
+    )?;
+    let target = std::env::var("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|_| root().join("target"));
+    run(
+        Command::new("valgrind")
+            .args([
+                "--tool=memcheck",
+                "--leak-check=full",
+                "--errors-for-leak-kinds=definite,indirect",
+                "--error-exitcode=1",
+            ])
+            .arg(target.join("release/examples/valgrind_driver")),
+        "valgrind memcheck",
+    )
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let result = match args.first().map(String::as_str) {
         Some("fmu") => fmu().map(|_| ()),
         Some("venv") => venv(),
         Some("run") => main_job(&args[1..]),
+        Some("validate") => validate(&args[1..]),
         Some("crosscheck") => crosscheck(&args[1..]),
         Some("fmi-sim") => tools::fmi_sim().map(|p| println!("{}", p.display())),
         Some("test") => test(),
-        _ => Err("usage: cargo xtask <fmu|venv|run|crosscheck|fmi-sim|test>".into()),
+        Some("valgrind") => valgrind(),
+        _ => Err(
+            "usage: cargo xtask <fmu|venv|run|validate|crosscheck|fmi-sim|test|valgrind>".into(),
+        ),
     };
     if let Err(e) = result {
         eprintln!("xtask: {e}");
