@@ -568,10 +568,15 @@ mod fmu {
         let ways: [(&str, f64, &[&str]); 3] = [
             ("one doStep over the horizon", t_end, &[]),
             ("1 ms doSteps", 1e-3, &[]),
-            ("1 ms doSteps + GetReal of 4 headline outputs", 1e-3, &headline),
+            (
+                "1 ms doSteps + GetReal of 4 headline outputs",
+                1e-3,
+                &headline,
+            ),
         ];
         let mut cpu = [[0.0; 3]; 3];
         let mut counts = [(0.0, 0.0); 3];
+        #[allow(clippy::needless_range_loop)] // rounds alternate the three ways
         for round in 0..3 {
             for (w, (_, h, outs)) in ways.iter().enumerate() {
                 let (c, s, r) = run(&api, method, t_end, *h, outs);
