@@ -360,12 +360,14 @@ impl IterationMatrix {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::belt::drive::Drive;
     use crate::belt::params::{DriveParams, PulleyParams};
 
-    fn dense_solve(mut a: Vec<f64>, mut b: Vec<f64>) -> Vec<f64> {
+    /// Gaussian elimination with partial pivoting (row-major `a`), the
+    /// reference for the structured solves.
+    pub(crate) fn dense_solve(mut a: Vec<f64>, mut b: Vec<f64>) -> Vec<f64> {
         let n = b.len();
         for k in 0..n {
             let p = (k..n)

@@ -490,32 +490,8 @@ mod tests {
             true
         }
         fn solve(&self, _jac: &Vec<f64>, m: &mut Vec<f64>, b: &mut [f64]) {
-            // Gaussian elimination with partial pivoting on a copy.
-            let n = self.n;
-            let mut a = m.clone();
-            for k in 0..n {
-                let p = (k..n)
-                    .max_by(|&i, &j| a[i * n + k].abs().total_cmp(&a[j * n + k].abs()))
-                    .unwrap();
-                for j in 0..n {
-                    a.swap(k * n + j, p * n + j);
-                }
-                b.swap(k, p);
-                for i in k + 1..n {
-                    let l = a[i * n + k] / a[k * n + k];
-                    for j in k..n {
-                        a[i * n + j] -= l * a[k * n + j];
-                    }
-                    b[i] -= l * b[k];
-                }
-            }
-            for k in (0..n).rev() {
-                let mut s = b[k];
-                for j in k + 1..n {
-                    s -= a[k * n + j] * b[j];
-                }
-                b[k] = s / a[k * n + k];
-            }
+            let x = crate::belt::iteration_matrix::tests::dense_solve(m.clone(), b.to_vec());
+            b.copy_from_slice(&x);
         }
     }
 
