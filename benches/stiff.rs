@@ -106,36 +106,53 @@ fn run(label: &str, p: &DriveParams, horizon: f64) {
     );
 }
 
+/// Sections to run: every argument that is not a flag names one
+/// (`kernels`, `5pk`, `s3`, `scaling`, `kubas`); none runs them all.
 fn main() {
     let quick = std::env::var("BELT_BENCH_QUICK").is_ok();
-    println!("# stiff-method kernels (5PK drive at t = 0.05 s)");
-    for n in [150usize, 600, 1200] {
-        kernels(n);
+    let picked: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| !a.starts_with('-'))
+        .collect();
+    let want = |s: &str| picked.is_empty() || picked.iter().any(|a| a == s);
+    if want("kernels") {
+        println!("# stiff-method kernels (5PK drive at t = 0.05 s)");
+        for n in [60usize, 150, 600, 1200] {
+            kernels(n);
+        }
     }
     let horizon = if quick { 0.2 } else { 2.0 };
-    println!("# default 5PK drive, creep law, ROS34PW2, 0..{horizon} s");
-    for tol in [1e-4, 1e-5] {
-        let mut p = DriveParams::kubas_section4();
-        p.solver.method = Method::Rosenbrock;
-        p.solver.rel_tol = tol;
-        run(&format!("5PK, rtol {tol:e}"), &p, horizon);
+    if want("5pk") {
+        println!("# default 5PK drive, creep law, ROS34PW2, 0..{horizon} s");
+        for tol in [1e-4, 1e-5] {
+            let mut p = DriveParams::kubas_section4();
+            p.solver.method = Method::Rosenbrock;
+            p.solver.rel_tol = tol;
+            run(&format!("5PK, rtol {tol:e}"), &p, horizon);
+        }
     }
-    println!("# section-3 drive, ROS34PW2 rtol 1e-5, 0..{horizon} s");
-    let mut p = DriveParams::kubas_section3();
-    p.solver.method = Method::Rosenbrock;
-    p.solver.rel_tol = 1e-5;
-    run("section 3", &p, horizon);
-    println!("# scaling: 5PK drive, ROS34PW2 rtol 1e-4, 0..0.5 s");
-    for n in [150usize, 300, 600, 1200] {
-        let mut p = DriveParams::kubas_section4();
-        p.belt.n_bodies = n;
+    if want("s3") {
+        println!("# section-3 drive, ROS34PW2 rtol 1e-5, 0..{horizon} s");
+        let mut p = DriveParams::kubas_section3();
         p.solver.method = Method::Rosenbrock;
-        run(&format!("n = {n}"), &p, if quick { 0.05 } else { 0.5 });
+        p.solver.rel_tol = 1e-5;
+        run("section 3", &p, horizon);
     }
-    println!("# kubas2014 law at the paper's dv = 1e-5 m/s, ROS34PW2 rtol 1e-4");
-    let mut p = DriveParams::kubas_section4();
-    p.friction.law = FrictionLaw::Kubas2014;
-    p.friction.dv = 1e-5;
-    p.solver.method = Method::Rosenbrock;
-    run("kubas2014 dv 1e-5", &p, if quick { 0.02 } else { 2.0 });
+    if want("scaling") {
+        println!("# scaling: 5PK drive, ROS34PW2 rtol 1e-4, 0..0.5 s");
+        for n in [60usize, 150, 300, 600, 1200] {
+            let mut p = DriveParams::kubas_section4();
+            p.belt.n_bodies = n;
+            p.solver.method = Method::Rosenbrock;
+            run(&format!("n = {n}"), &p, if quick { 0.05 } else { 0.5 });
+        }
+    }
+    if want("kubas") {
+        println!("# kubas2014 law at the paper's dv = 1e-5 m/s, ROS34PW2 rtol 1e-4");
+        let mut p = DriveParams::kubas_section4();
+        p.friction.law = FrictionLaw::Kubas2014;
+        p.friction.dv = 1e-5;
+        p.solver.method = Method::Rosenbrock;
+        run("kubas2014 dv 1e-5", &p, if quick { 0.02 } else { 2.0 });
+    }
 }
