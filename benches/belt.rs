@@ -22,12 +22,12 @@
 //! `--method N` sets `solver.method` (1 = RKF45) for the integrator runs.
 //! `--quick` shortens the horizons (a smoke test of the command).
 //!
-//! `cargo bench --bench belt -- count-rhs <n> <reps>` evaluates the
-//! right-hand side `reps` times at a running state of `n` bodies inside
+//! `cargo bench --bench belt -- count-rhs <n> <reps> [baseline|avx2|avx512]`
+//! evaluates the right-hand side `reps` times (as dispatched, or that build) at a running state of `n` bodies inside
 //! `rhs_loop` (no timing) for instruction counts:
 //! `valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*rhs_loop*' <bench binary> count-rhs 150 2000`.
 
-use belt_drive::belt::model::NoRecord;
+use belt_drive::belt::model::{NoRecord, SimdBuild};
 use belt_drive::belt::params::Method;
 use belt_drive::belt::{Drive, DriveParams, FrictionLaw, Inputs, Outputs};
 
@@ -77,37 +77,63 @@ fn running_drive(n: usize) -> Drive {
     d
 }
 
+/// `reps` evaluations of the right-hand side, by the run-time dispatch
+/// (`None`) or one build; false if the CPU lacks that build's instructions.
 #[inline(never)]
-fn rhs_loop(d: &Drive, y: &[f64], dy: &mut [f64], reps: usize) {
+fn rhs_loop(d: &Drive, y: &[f64], dy: &mut [f64], reps: usize, build: Option<SimdBuild>) -> bool {
+    let sys = d.system();
     for _ in 0..reps {
-        d.system()
-            .rhs(0.01, std::hint::black_box(y), dy, &mut NoRecord);
+        let y = std::hint::black_box(y);
+        match build {
+            None => sys.rhs(0.01, y, dy, &mut NoRecord),
+            Some(b) => {
+                if !sys.rhs_build(b, 0.01, y, dy, &mut NoRecord) {
+                    return false;
+                }
+            }
+        }
         std::hint::black_box(&mut *dy);
     }
+    true
 }
 
-fn rhs_cost(n: usize) -> f64 {
-    let d = running_drive(n);
+/// Median CPU time per body per evaluation [s], None if the CPU lacks the build.
+fn rhs_cost(d: &Drive, build: Option<SimdBuild>) -> Option<f64> {
+    let n = d.system().n;
     let y = d.state().to_vec();
     let mut dy = vec![0.0; y.len()];
     let reps = (2_000_000 / n).max(200);
-    let samples = (0..7)
-        .map(|_| {
-            let t = cpu_time();
-            rhs_loop(&d, &y, &mut dy, reps);
-            (cpu_time() - t) / reps as f64
-        })
-        .collect();
-    median(samples) / n as f64
+    let mut samples = Vec::new();
+    for _ in 0..7 {
+        let t = cpu_time();
+        if !rhs_loop(d, &y, &mut dy, reps, build) {
+            return None;
+        }
+        samples.push((cpu_time() - t) / reps as f64);
+    }
+    Some(median(samples) / n as f64)
 }
 
 fn bench_rhs() {
     println!("## Right-hand side");
-    println!("| bodies | drive | ns per body per evaluation |");
-    println!("|---|---|---|");
+    println!("ns per body per evaluation: as dispatched (the widest instruction set the CPU has), and each build");
+    println!();
+    println!("| bodies | drive | dispatched | AVX-512 | AVX2 | baseline (SSE2) |");
+    println!("|---|---|---|---|---|---|");
     for n in [60usize, 150, 600, 1200] {
         let drive = if n < 100 { "section 3" } else { "5PK" };
-        println!("| {n} | {drive} | {:.2} |", rhs_cost(n) * 1e9);
+        let d = running_drive(n);
+        let cell = |b: Option<SimdBuild>| match rhs_cost(&d, b) {
+            Some(c) => format!("{:.2}", c * 1e9),
+            None => "-".to_string(),
+        };
+        println!(
+            "| {n} | {drive} | {} | {} | {} | {} |",
+            cell(None),
+            cell(Some(SimdBuild::Avx512)),
+            cell(Some(SimdBuild::Avx2)),
+            cell(Some(SimdBuild::Baseline))
+        );
     }
 }
 
@@ -366,10 +392,20 @@ fn main() {
     if args.first().map(String::as_str) == Some("count-rhs") {
         let n = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(150);
         let reps = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(1000);
+        let build = match args.get(3).map(String::as_str) {
+            None => None,
+            Some("baseline") => Some(SimdBuild::Baseline),
+            Some("avx2") => Some(SimdBuild::Avx2),
+            Some("avx512") => Some(SimdBuild::Avx512),
+            Some(b) => panic!("count-rhs: unknown build {b} (baseline, avx2, avx512)"),
+        };
         let d = running_drive(n);
         let y = d.state().to_vec();
         let mut dy = vec![0.0; y.len()];
-        rhs_loop(&d, &y, &mut dy, reps);
+        assert!(
+            rhs_loop(&d, &y, &mut dy, reps, build),
+            "the CPU lacks {build:?}"
+        );
         println!("{n} bodies, {reps} evaluations");
         return;
     }

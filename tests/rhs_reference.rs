@@ -18,7 +18,7 @@
 //! law, a missed contact, a wrong sign or lever) is many orders of
 //! magnitude larger than either.
 
-use belt_drive::belt::model::{BeltSystem, Inputs, Recorder, BODY_DOF};
+use belt_drive::belt::model::{BeltSystem, Inputs, Recorder, SimdBuild, BODY_DOF};
 use belt_drive::belt::params::{PulleyParams, MAX_PULLEYS};
 use belt_drive::belt::{Drive, DriveParams, FrictionLaw};
 use std::collections::BTreeMap;
@@ -308,21 +308,28 @@ fn compare(sys: &BeltSystem, t: f64, y: &[f64], label: &str) -> Exercised {
     // Garbage in dy must not leak into the result.
     let mut dy = vec![f64::NAN; dim];
     sys.rhs(t, y, &mut dy, &mut belt_drive::belt::model::NoRecord);
-    // The baseline (SSE2) build of the same code gives the same bits as
-    // the one the CPU dispatch picked (AVX2 where available).
-    let mut dy_portable = vec![f64::NAN; dim];
-    sys.rhs_portable(
-        t,
-        y,
-        &mut dy_portable,
-        &mut belt_drive::belt::model::NoRecord,
-    );
-    for row in 0..dim {
-        assert_eq!(
-            dy[row].to_bits(),
-            dy_portable[row].to_bits(),
-            "{label}: dispatched and portable dy[{row}] differ"
+    // Every build of the same code the CPU can run (baseline SSE2, AVX2,
+    // AVX-512) gives the same bits as the one the dispatch picked.
+    for build in [SimdBuild::Baseline, SimdBuild::Avx2, SimdBuild::Avx512] {
+        let mut dy_build = vec![f64::NAN; dim];
+        let ran = sys.rhs_build(
+            build,
+            t,
+            y,
+            &mut dy_build,
+            &mut belt_drive::belt::model::NoRecord,
         );
+        assert!(ran || build != SimdBuild::Baseline);
+        if !ran {
+            continue;
+        }
+        for row in 0..dim {
+            assert_eq!(
+                dy[row].to_bits(),
+                dy_build[row].to_bits(),
+                "{label}: dispatched and {build:?} dy[{row}] differ"
+            );
+        }
     }
     let mut dy_rec = vec![1e300; dim];
     let mut log = Log::default();

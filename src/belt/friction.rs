@@ -77,11 +77,14 @@ impl Friction {
     pub fn creep_coefficient(&self, z: f64, mu_s: f64, mu_k: f64) -> f64 {
         let u = z * self.inv_creep_max;
         let a = u.abs();
+        // both branches evaluated and one selected: no jump, so that the
+        // contact loop vectorises
+        let elastic = mu_s * s_curve(u);
+        let sliding = (mu_s + (mu_k - mu_s) * smoothstep((a - 1.0) * 2.0)).copysign(u);
         if a <= 1.0 {
-            mu_s * s_curve(u)
+            elastic
         } else {
-            let mu = mu_s + (mu_k - mu_s) * smoothstep((a - 1.0) * 2.0);
-            mu.copysign(u)
+            sliding
         }
     }
 
@@ -89,15 +92,17 @@ impl Friction {
     #[inline(always)]
     pub fn kubas_coefficient(&self, v_t: f64, z: f64, mu_s: f64, mu_k: f64) -> f64 {
         let w = v_t.abs() * self.inv_dv;
+        // both branches evaluated and one selected (see creep_coefficient)
+        // eq. 13: mu = (1 - beta) mu1(Delta) + beta mu_s
+        let beta = s_curve(w);
+        let mu1 = mu_s * s_curve(z * self.inv_creep_max);
+        let stick = (1.0 - beta) * mu1 + (beta * mu_s).copysign(v_t);
+        // Fig. 6c: mu_s -> mu_k over dv..1.5 dv, then mu_k.
+        let slide = (mu_s + (mu_k - mu_s) * smoothstep((w - 1.0) * 2.0)).copysign(v_t);
         if w < 1.0 {
-            // eq. 13: mu = (1 - beta) mu1(Delta) + beta mu_s
-            let beta = s_curve(w);
-            let mu1 = mu_s * s_curve(z * self.inv_creep_max);
-            (1.0 - beta) * mu1 + (beta * mu_s).copysign(v_t)
+            stick
         } else {
-            // Fig. 6c: mu_s -> mu_k over dv..1.5 dv, then mu_k.
-            let mu = mu_s + (mu_k - mu_s) * smoothstep((w - 1.0) * 2.0);
-            mu.copysign(v_t)
+            slide
         }
     }
 

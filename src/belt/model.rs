@@ -102,6 +102,17 @@ pub struct BeltSystem {
 
 pub(crate) use super::trig::wrap_angle;
 
+/// Instruction sets the right-hand side is compiled for; [`BeltSystem::rhs`]
+/// picks the widest the CPU has at run time.
+#[doc(hidden)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SimdBuild {
+    /// The binary's baseline (SSE2 on x86-64).
+    Baseline,
+    Avx2,
+    Avx512,
+}
+
 /// Bodies per block of the right-hand side (scratch of ~9 KiB, stays in L1).
 pub const BLOCK: usize = 64;
 
@@ -115,6 +126,7 @@ struct Block {
     vx: [f64; BLOCK + 2],
     vy: [f64; BLOCK + 2],
     w: [f64; BLOCK + 2],
+    z: [f64; BLOCK + 2],
     /// Half body vector (l/2) (cos phi, sin phi).
     hx: [f64; BLOCK + 2],
     hy: [f64; BLOCK + 2],
@@ -126,86 +138,59 @@ struct Block {
     torque_cur: [f64; BLOCK + 1],
     torque_prev: [f64; BLOCK + 1],
     diss: [f64; BLOCK + 1],
-    // body j = 0..len (body i0 + j): own forces, creep rate, contact test
+    // body j = 0..len (body i0 + j): friction zone factor, own forces
+    // (gravity, contact), creep rate, accelerations
+    zf: [f64; BLOCK],
     ofx: [f64; BLOCK],
     ofy: [f64; BLOCK],
     dz: [f64; BLOCK],
-    /// min over pulleys of d^2 - r^2 (negative: inside a pulley)
-    margin: [f64; BLOCK],
-    contacts: Contacts,
-}
-
-/// Contacts evaluated per batch.
-const CONTACTS: usize = 64;
-
-/// A batch of body-pulley contacts of a block, structure of arrays.
-#[derive(Clone)]
-struct Contacts {
-    // inputs: block body index, pulley, centre relative to the pulley,
-    // velocity, creep, radius, pulley surface speed, friction coefficients
-    body: [u32; CONTACTS],
-    pulley: [u32; CONTACTS],
-    rx: [f64; CONTACTS],
-    ry: [f64; CONTACTS],
-    vx: [f64; CONTACTS],
-    vy: [f64; CONTACTS],
-    z: [f64; CONTACTS],
-    radius: [f64; CONTACTS],
-    surface: [f64; CONTACTS],
-    mu_s: [f64; CONTACTS],
-    mu_k: [f64; CONTACTS],
-    // results: force on the body, creep rate, power, recorded values
-    fx: [f64; CONTACTS],
-    fy: [f64; CONTACTS],
-    dz: [f64; CONTACTS],
-    diss: [f64; CONTACTS],
-    normal: [f64; CONTACTS],
-    f: [f64; CONTACTS],
-    v_t: [f64; CONTACTS],
-    p: [f64; CONTACTS],
+    ax: [f64; BLOCK],
+    ay: [f64; BLOCK],
+    alpha: [f64; BLOCK],
+    // contacts of body j with the pulley at hand: moment r f, power, and
+    // the recorded values (normal force, friction force, v_T, penetration,
+    // force on the body, inside)
+    cfx: [f64; BLOCK],
+    cfy: [f64; BLOCK],
+    cdz: [f64; BLOCK],
+    torque_q: [f64; BLOCK],
+    diss_q: [f64; BLOCK],
+    rec_q: [[f64; 7]; BLOCK],
 }
 
 impl Block {
     fn new() -> Self {
+        const C: [f64; BLOCK + 2] = [0.0; BLOCK + 2];
+        const S: [f64; BLOCK + 1] = [0.0; BLOCK + 1];
+        const B: [f64; BLOCK] = [0.0; BLOCK];
         Self {
-            x: [0.0; BLOCK + 2],
-            y: [0.0; BLOCK + 2],
-            phi: [0.0; BLOCK + 2],
-            vx: [0.0; BLOCK + 2],
-            vy: [0.0; BLOCK + 2],
-            w: [0.0; BLOCK + 2],
-            hx: [0.0; BLOCK + 2],
-            hy: [0.0; BLOCK + 2],
-            fx: [0.0; BLOCK + 1],
-            fy: [0.0; BLOCK + 1],
-            torque_cur: [0.0; BLOCK + 1],
-            torque_prev: [0.0; BLOCK + 1],
-            diss: [0.0; BLOCK + 1],
-            ofx: [0.0; BLOCK],
-            ofy: [0.0; BLOCK],
-            dz: [0.0; BLOCK],
-            margin: [0.0; BLOCK],
-            contacts: Contacts {
-                body: [0; CONTACTS],
-                pulley: [0; CONTACTS],
-                rx: [0.0; CONTACTS],
-                ry: [0.0; CONTACTS],
-                vx: [0.0; CONTACTS],
-                vy: [0.0; CONTACTS],
-                z: [0.0; CONTACTS],
-                radius: [0.0; CONTACTS],
-                surface: [0.0; CONTACTS],
-                mu_s: [0.0; CONTACTS],
-                mu_k: [0.0; CONTACTS],
-                fx: [0.0; CONTACTS],
-                fy: [0.0; CONTACTS],
-                dz: [0.0; CONTACTS],
-                diss: [0.0; CONTACTS],
-                normal: [0.0; CONTACTS],
-                f: [0.0; CONTACTS],
-                v_t: [0.0; CONTACTS],
-                p: [0.0; CONTACTS],
-            },
+            x: C,
+            y: C,
+            phi: C,
+            vx: C,
+            vy: C,
+            w: C,
+            z: C,
+            hx: C,
+            hy: C,
+            fx: S,
+            fy: S,
+            torque_cur: S,
+            torque_prev: S,
+            diss: S,
+            zf: B,
+            ofx: B,
+            ofy: B,
+            dz: B,
+            ax: B,
+            ay: B,
+            alpha: B,
+            cfx: B,
+            cfy: B,
+            cdz: B,
+            torque_q: B,
+            diss_q: B,
+            rec_q: [[0.0; 7]; BLOCK],
         }
     }
 
@@ -220,6 +205,7 @@ impl Block {
             &mut self.vx,
             &mut self.vy,
             &mut self.w,
+            &mut self.z,
             &mut self.hx,
             &mut self.hy,
         ] {
@@ -234,6 +220,106 @@ impl Block {
             &mut self.diss,
         ] {
             a[0] = a[len];
+        }
+    }
+
+    /// Copies the consecutive bodies of `src` (`[x, y, phi, vx, vy, omega,
+    /// z]` each) into the columns at index `m` onwards. Pure data movement:
+    /// two bodies at a time by 128-bit loads and shuffles on x86-64 (SSE2,
+    /// part of the baseline), element by element elsewhere.
+    #[inline(always)]
+    fn gather(&mut self, m: usize, src: &[f64]) {
+        let count = src.len() / BODY_DOF;
+        assert!(m + count <= BLOCK + 2 && src.len() == count * BODY_DOF);
+        let mut k = 0;
+        #[cfg(target_arch = "x86_64")]
+        {
+            use std::arch::x86_64::{_mm_loadu_pd, _mm_shuffle_pd, _mm_storeu_pd};
+            while k + 2 <= count {
+                let d = m + k;
+                // SAFETY: bodies k and k + 1 lie in `src` and columns d,
+                // d + 1 in the arrays (both asserted above).
+                unsafe {
+                    let s = src.as_ptr().add(BODY_DOF * k);
+                    // l = (a0 a1) (a2 a3) (a4 a5) (a6 b0) (b1 b2) (b3 b4) (b5 b6)
+                    let l: [_; BODY_DOF] = std::array::from_fn(|i| _mm_loadu_pd(s.add(2 * i)));
+                    _mm_storeu_pd(self.x.as_mut_ptr().add(d), _mm_shuffle_pd(l[0], l[3], 0b10));
+                    _mm_storeu_pd(self.y.as_mut_ptr().add(d), _mm_shuffle_pd(l[0], l[4], 0b01));
+                    _mm_storeu_pd(
+                        self.phi.as_mut_ptr().add(d),
+                        _mm_shuffle_pd(l[1], l[4], 0b10),
+                    );
+                    _mm_storeu_pd(
+                        self.vx.as_mut_ptr().add(d),
+                        _mm_shuffle_pd(l[1], l[5], 0b01),
+                    );
+                    _mm_storeu_pd(
+                        self.vy.as_mut_ptr().add(d),
+                        _mm_shuffle_pd(l[2], l[5], 0b10),
+                    );
+                    _mm_storeu_pd(self.w.as_mut_ptr().add(d), _mm_shuffle_pd(l[2], l[6], 0b01));
+                    _mm_storeu_pd(self.z.as_mut_ptr().add(d), _mm_shuffle_pd(l[3], l[6], 0b10));
+                }
+                k += 2;
+            }
+        }
+        for (k, s) in (k..count).zip(src[BODY_DOF * k..].chunks_exact(BODY_DOF)) {
+            let d = m + k;
+            self.x[d] = s[0];
+            self.y[d] = s[1];
+            self.phi[d] = s[2];
+            self.vx[d] = s[3];
+            self.vy[d] = s[4];
+            self.w[d] = s[5];
+            self.z[d] = s[6];
+        }
+    }
+
+    /// Writes the derivatives of bodies 0..len of the block into `dst`
+    /// (`[vx, vy, omega, ax, ay, alpha, dz/dt]` each), the inverse of
+    /// [`Self::gather`].
+    #[inline(always)]
+    fn scatter(&self, dst: &mut [f64]) {
+        let count = dst.len() / BODY_DOF;
+        assert!(count <= BLOCK && dst.len() == count * BODY_DOF);
+        let cols: [&[f64]; BODY_DOF] = [
+            &self.vx[1..],
+            &self.vy[1..],
+            &self.w[1..],
+            &self.ax,
+            &self.ay,
+            &self.alpha,
+            &self.dz,
+        ];
+        let mut k = 0;
+        #[cfg(target_arch = "x86_64")]
+        {
+            use std::arch::x86_64::{
+                _mm_loadu_pd, _mm_shuffle_pd, _mm_storeu_pd, _mm_unpackhi_pd, _mm_unpacklo_pd,
+            };
+            while k + 2 <= count {
+                // SAFETY: every column holds at least `count` values
+                // (asserted above) and bodies k, k + 1 lie in `dst`.
+                unsafe {
+                    // c[i] = (a_i b_i)
+                    let c: [_; BODY_DOF] =
+                        std::array::from_fn(|i| _mm_loadu_pd(cols[i].as_ptr().add(k)));
+                    let o = dst.as_mut_ptr().add(BODY_DOF * k);
+                    _mm_storeu_pd(o, _mm_unpacklo_pd(c[0], c[1]));
+                    _mm_storeu_pd(o.add(2), _mm_unpacklo_pd(c[2], c[3]));
+                    _mm_storeu_pd(o.add(4), _mm_unpacklo_pd(c[4], c[5]));
+                    _mm_storeu_pd(o.add(6), _mm_shuffle_pd(c[6], c[0], 0b10));
+                    _mm_storeu_pd(o.add(8), _mm_unpackhi_pd(c[1], c[2]));
+                    _mm_storeu_pd(o.add(10), _mm_unpackhi_pd(c[3], c[4]));
+                    _mm_storeu_pd(o.add(12), _mm_unpackhi_pd(c[5], c[6]));
+                }
+                k += 2;
+            }
+        }
+        for (k, d) in (k..count).zip(dst[BODY_DOF * k..].chunks_exact_mut(BODY_DOF)) {
+            for (v, col) in d.iter_mut().zip(cols) {
+                *v = col[k];
+            }
         }
     }
 }
@@ -411,27 +497,63 @@ impl BeltSystem {
     /// closing of the loop).
     pub fn rhs<R: Recorder>(&self, t: f64, y: &[f64], dy: &mut [f64], rec: &mut R) {
         #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx512f") {
+            // SAFETY: the CPU has AVX-512F (checked above).
+            unsafe { self.rhs_avx512(t, y, dy, rec) };
+            return;
+        }
+        #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the CPU has AVX2 (checked above).
             unsafe { self.rhs_avx2(t, y, dy, rec) };
             return;
         }
-        self.rhs_portable(t, y, dy, rec);
-    }
-
-    /// [`Self::rhs`] compiled for AVX2 (4 doubles per vector instead of
-    /// SSE2's 2). Same operations, so the same results to the last bit
-    /// (no FMA: it would change rounding).
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    unsafe fn rhs_avx2<R: Recorder>(&self, t: f64, y: &[f64], dy: &mut [f64], rec: &mut R) {
         self.rhs_impl(t, y, dy, rec);
     }
 
-    /// [`Self::rhs`] for the baseline instruction set (SSE2 on x86-64),
-    /// whatever the CPU supports; public for the test of the dispatch.
+    /// [`Self::rhs`] compiled for one instruction set, if the CPU has it
+    /// (false if not); for the tests that the builds agree to the bit and
+    /// for benchmarks. Public, but not part of the model's interface.
     #[doc(hidden)]
-    pub fn rhs_portable<R: Recorder>(&self, t: f64, y: &[f64], dy: &mut [f64], rec: &mut R) {
+    pub fn rhs_build<R: Recorder>(
+        &self,
+        build: SimdBuild,
+        t: f64,
+        y: &[f64],
+        dy: &mut [f64],
+        rec: &mut R,
+    ) -> bool {
+        match build {
+            SimdBuild::Baseline => self.rhs_impl(t, y, dy, rec),
+            #[cfg(target_arch = "x86_64")]
+            SimdBuild::Avx2 if std::arch::is_x86_feature_detected!("avx2") => {
+                // SAFETY: the CPU has AVX2 (checked above).
+                unsafe { self.rhs_avx2(t, y, dy, rec) }
+            }
+            #[cfg(target_arch = "x86_64")]
+            SimdBuild::Avx512 if std::arch::is_x86_feature_detected!("avx512f") => {
+                // SAFETY: the CPU has AVX-512F (checked above).
+                unsafe { self.rhs_avx512(t, y, dy, rec) }
+            }
+            _ => return false,
+        }
+        true
+    }
+
+    /// [`Self::rhs`] compiled for AVX-512F (8 doubles per vector). Same
+    /// operations as the other builds, so the same results to the last bit
+    /// (no FMA: it would change rounding).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    unsafe fn rhs_avx512<R: Recorder>(&self, t: f64, y: &[f64], dy: &mut [f64], rec: &mut R) {
+        self.rhs_impl(t, y, dy, rec);
+    }
+
+    /// [`Self::rhs`] compiled for AVX2 (4 doubles per vector instead of
+    /// SSE2's 2), no FMA.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn rhs_avx2<R: Recorder>(&self, t: f64, y: &[f64], dy: &mut [f64], rec: &mut R) {
         self.rhs_impl(t, y, dy, rec);
     }
 
@@ -526,26 +648,18 @@ impl BeltSystem {
         // were carried from the previous block unless this is the first.
         let m0 = if first { 0 } else { 2 };
         let last = i0 + len == n;
-        let mut load = |m: usize, s: &[f64]| {
-            b.x[m] = s[0];
-            b.y[m] = s[1];
-            b.phi[m] = s[2];
-            b.vx[m] = s[3];
-            b.vy[m] = s[4];
-            b.w[m] = s[5];
-        };
         // m = 0 of the first block is body n - 1, m = len + 1 of the last
         // is body 0; in between the bodies are contiguous.
         let (m_lo, m_hi) = (m0.max(1), if last { len + 1 } else { len + 2 });
         if first {
-            load(0, &y[BODY_DOF * (n - 1)..BODY_DOF * n]);
+            b.gather(0, &y[BODY_DOF * (n - 1)..BODY_DOF * n]);
         }
-        let bodies = &y[BODY_DOF * (i0 + m_lo - 1)..BODY_DOF * (i0 + m_hi - 1)];
-        for (m, s) in (m_lo..m_hi).zip(bodies.chunks_exact(BODY_DOF)) {
-            load(m, s);
-        }
+        b.gather(
+            m_lo,
+            &y[BODY_DOF * (i0 + m_lo - 1)..BODY_DOF * (i0 + m_hi - 1)],
+        );
         if last {
-            load(len + 1, &y[..BODY_DOF]);
+            b.gather(len + 1, &y[..BODY_DOF]);
         }
         for m in m0..len + 2 {
             let (sn, cs) = trig::sin_cos(b.phi[m]);
@@ -610,147 +724,115 @@ impl BeltSystem {
             }
         }
 
-        // (3) Contact and friction (eq. 4-19): a vectorised test of the body
-        // centre against every pulley circle, then the force laws only for
-        // the bodies inside one.
+        // (3) Contact and friction (eq. 4-19), pulley by pulley in chunks of
+        // LANES bodies: a vectorised test of the body centres against the
+        // pulley circle, then, if any is inside, the force laws for the whole
+        // chunk with the results of the bodies outside discarded. Each body
+        // sums its contacts in pulley order, as a plain loop would.
         let weight = self.mass * self.gravity;
+        b.zf[..len].copy_from_slice(&self.zone_factor[i0..i0 + len]);
         for j in 0..len {
             b.ofx[j] = 0.0;
             b.ofy[j] = -weight;
             b.dz[j] = 0.0;
-            b.margin[j] = f64::INFINITY;
         }
-        // margin < 0 exactly when some d^2 < r^2 (a - b < 0 iff a < b)
-        for pc in &self.pulleys[..self.np] {
-            for j in 0..len {
-                let (rx, ry) = (b.x[j + 1] - pc.cx, b.y[j + 1] - pc.cy);
-                let v = rx * rx + ry * ry - pc.radius2;
-                b.margin[j] = if v < b.margin[j] { v } else { b.margin[j] };
-            }
-        }
-        // Bodies inside a pulley are collected (in body, then pulley
-        // order) and evaluated in batches by a loop that vectorises.
-        let zone = &self.zone_factor[i0..i0 + len];
-        let bodies = &y[BODY_DOF * i0..BODY_DOF * (i0 + len)];
-        let mut cnt = 0;
-        for j in 0..len {
-            if b.margin[j] >= 0.0 {
-                continue;
-            }
-            let m = j + 1;
-            let zf = zone[j];
-            for (q, pc) in self.pulleys[..self.np].iter().enumerate() {
-                let (rx, ry) = (b.x[m] - pc.cx, b.y[m] - pc.cy);
-                if rx * rx + ry * ry >= pc.radius2 {
-                    continue;
-                }
-                let k = &mut b.contacts;
-                k.body[cnt] = j as u32;
-                k.pulley[cnt] = q as u32;
-                k.rx[cnt] = rx;
-                k.ry[cnt] = ry;
-                k.vx[cnt] = b.vx[m];
-                k.vy[cnt] = b.vy[m];
-                k.z[cnt] = bodies[BODY_DOF * j + 6];
-                k.radius[cnt] = pc.radius;
-                k.surface[cnt] = omega_p[q] * pc.radius;
-                k.mu_s[cnt] = pc.mu_s * zf;
-                k.mu_k[cnt] = pc.mu_k * zf;
-                cnt += 1;
-                if cnt == CONTACTS {
-                    p_diss += self.contacts(b, cnt, i0, belt_torque, rec);
-                    cnt = 0;
-                }
-            }
-        }
-        if cnt > 0 {
-            p_diss += self.contacts(b, cnt, i0, belt_torque, rec);
+        let fr = self.friction;
+        for (q, pc) in self.pulleys[..self.np].iter().enumerate() {
+            let surface = omega_p[q] * pc.radius;
+            let (torque, diss) = if fr.law == FrictionLaw::Creep {
+                self.contacts(b, i0, len, q, surface, rec, move |_v, z, ms, mk| {
+                    fr.creep_coefficient(z, ms, mk)
+                })
+            } else {
+                self.contacts(b, i0, len, q, surface, rec, move |v, z, ms, mk| {
+                    fr.kubas_coefficient(v, z, ms, mk)
+                })
+            };
+            belt_torque[q] -= torque; // eq. 24
+            p_diss += diss;
         }
 
         // (4) Accelerations (eq. 20-23): own forces, the left SDE (j) and
         // the right SDE (j + 1) of each body.
         let (inv_m, inv_i, c) = (self.inv_mass, self.inv_inertia, self.relax_damping);
-        let out = &mut dy[BODY_DOF * i0..BODY_DOF * (i0 + len)];
-        for (j, d) in out.chunks_exact_mut(BODY_DOF).enumerate() {
+        for j in 0..len {
             let m = j + 1;
-            let ax = (b.ofx[j] - b.fx[j] + b.fx[j + 1]) * inv_m - c * b.vx[m];
-            let ay = (b.ofy[j] - b.fy[j] + b.fy[j + 1]) * inv_m - c * b.vy[m];
+            b.ax[j] = (b.ofx[j] - b.fx[j] + b.fx[j + 1]) * inv_m - c * b.vx[m];
+            b.ay[j] = (b.ofy[j] - b.fy[j] + b.fy[j + 1]) * inv_m - c * b.vy[m];
             let torque = b.torque_cur[j] + b.torque_prev[j + 1];
-            d[0] = b.vx[m];
-            d[1] = b.vy[m];
-            d[2] = b.w[m];
-            d[3] = ax;
-            d[4] = ay;
-            d[5] = torque * inv_i - c * b.w[m];
-            d[6] = b.dz[j];
+            b.alpha[j] = torque * inv_i - c * b.w[m];
         }
+        b.scatter(&mut dy[BODY_DOF * i0..BODY_DOF * (i0 + len)]);
         p_diss
     }
 
-    /// Contact and friction forces (eq. 4-19) of the first `cnt`
-    /// collected contacts of a block, added to the bodies' own forces and
-    /// the pulleys' belt torque in collection order. Returns their power.
+    /// Contact and friction forces (eq. 4-19) of bodies 0..len of a block
+    /// with pulley `q` (surface speed `surface`), friction coefficient
+    /// `mu(v_T, z, mu_s, mu_k)`: added to the bodies' own forces and creep
+    /// rates. Returns the moment r f about the pulley's axis summed over the
+    /// contacts, and their power.
+    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn contacts<R: Recorder>(
         &self,
         b: &mut Block,
-        cnt: usize,
         i0: usize,
-        belt_torque: &mut [f64; MAX_PULLEYS],
+        len: usize,
+        q: usize,
+        surface: f64,
         rec: &mut R,
-    ) -> f64 {
-        let k = &mut b.contacts;
-        // one loop per friction law, so that each has no branch to vectorise
-        let creep = self.friction.law == FrictionLaw::Creep;
-        macro_rules! contact_loop {
-            ($mu:expr) => {
-                for c in 0..cnt {
-                    let (rx, ry) = (k.rx[c], k.ry[c]);
-                    let (vx, vy, z) = (k.vx[c], k.vy[c], k.z[c]);
-                    // eq. 4-8: direction, penetration and its rate
-                    let dist = (rx * rx + ry * ry).sqrt();
-                    let inv = 1.0 / dist.max(1e-12);
-                    let (nx, ny) = (rx * inv, ry * inv);
-                    let p = k.radius[c] - dist;
-                    let p_dot = -(vx * nx + vy * ny);
-                    let (normal, elastic) = self.contact.normal_force(p, p_dot);
-                    // eq. 14-18 with the pulley radius as lever: v_T = omega r_p - v.tau
-                    let (tx, ty) = (-ny, nx);
-                    let v_t = k.surface[c] - (vx * tx + vy * ty);
-                    #[allow(clippy::redundant_closure_call)]
-                    let mu = $mu(v_t, z, k.mu_s[c], k.mu_k[c]);
-                    let f = mu * normal; // eq. 19, along +tau
-                    k.fx[c] = normal * nx + f * tx;
-                    k.fy[c] = normal * ny + f * ty;
-                    k.dz[c] = self.friction.creep_rate(v_t, z);
-                    k.diss[c] = (normal - elastic) * p_dot + f * v_t;
-                    k.normal[c] = normal;
-                    k.f[c] = f;
-                    k.v_t[c] = v_t;
-                    k.p[c] = p;
+        mu: impl Fn(f64, f64, f64, f64) -> f64,
+    ) -> (f64, f64) {
+        let pc = &self.pulleys[q];
+        // the bodies lo..hi span every body inside the circle (usually one
+        // arc); the rest of the block is skipped
+        let (mut lo, mut hi) = (len, 0);
+        for j in 0..len {
+            let (rx, ry) = (b.x[j + 1] - pc.cx, b.y[j + 1] - pc.cy);
+            let inside = rx * rx + ry * ry < pc.radius2;
+            lo = lo.min(if inside { j } else { len });
+            hi = hi.max(if inside { j + 1 } else { 0 });
+        }
+        if lo >= hi {
+            return (0.0, 0.0);
+        }
+        // columns of bodies lo..hi (separate slices: no aliasing, no bounds
+        // checks, the loop vectorises)
+        contact_arc(
+            self,
+            pc,
+            surface,
+            &mu,
+            [
+                &b.x[lo + 1..=hi],
+                &b.y[lo + 1..=hi],
+                &b.vx[lo + 1..=hi],
+                &b.vy[lo + 1..=hi],
+                &b.z[lo + 1..=hi],
+                &b.zf[lo..hi],
+            ],
+            &mut b.cfx[lo..hi],
+            &mut b.cfy[lo..hi],
+            &mut b.cdz[lo..hi],
+            &mut b.torque_q[lo..hi],
+            &mut b.diss_q[lo..hi],
+            R::ACTIVE.then_some(&mut b.rec_q[lo..hi]),
+        );
+        for j in lo..hi {
+            b.ofx[j] += b.cfx[j];
+            b.ofy[j] += b.cfy[j];
+            b.dz[j] += b.cdz[j];
+        }
+        if R::ACTIVE {
+            for j in lo..hi {
+                let v = b.rec_q[j];
+                if v[6] != 0.0 {
+                    rec.contact(i0 + j, q, v[0], v[1], v[2], v[3]);
+                    rec.hub_force(q, -v[4], -v[5]);
                 }
-            };
-        }
-        let fr = &self.friction;
-        if creep {
-            contact_loop!(|_v, z, ms, mk| fr.creep_coefficient(z, ms, mk));
-        } else {
-            contact_loop!(|v, z, ms, mk| fr.kubas_coefficient(v, z, ms, mk));
-        }
-        let mut p_diss = 0.0;
-        for c in 0..cnt {
-            let (j, q) = (k.body[c] as usize, k.pulley[c] as usize);
-            b.ofx[j] += k.fx[c];
-            b.ofy[j] += k.fy[c];
-            b.dz[j] += k.dz[c];
-            belt_torque[q] -= k.radius[c] * k.f[c]; // eq. 24
-            p_diss += k.diss[c];
-            if R::ACTIVE {
-                rec.contact(i0 + j, q, k.normal[c], k.f[c], k.v_t[c], k.p[c]);
-                rec.hub_force(q, -k.fx[c], -k.fy[c]);
             }
         }
-        p_diss
+        (sum(&b.torque_q[lo..hi]), sum(&b.diss_q[lo..hi]))
     }
 
     /// Discrete update after every accepted step: the creep displacement of a
@@ -819,5 +901,88 @@ fn ramp_rate(p: &PulleyConst, amp: f64, t: f64) -> f64 {
         amp / p.ramp_time
     } else {
         0.0
+    }
+}
+
+/// Contact and friction (eq. 4-19) of a run of bodies with pulley `pc`
+/// (surface speed `surface`, friction coefficient `mu(v_T, z, mu_s, mu_k)`).
+/// `body` holds the columns x, y, vx, vy, z and friction zone factor; the
+/// contact forces and creep rates are added to `ofx`, `ofy`, `dz`, the
+/// moments r f about the pulley axis and the dissipated powers stored in
+/// `torque`, `diss`, and, if given, the recorded values in `rec`. Bodies
+/// outside the circle (between two contacts of the run) add nothing.
+/// Separate slices of one length: the loop has no aliasing and no bounds
+/// checks and vectorises.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn contact_arc(
+    sys: &BeltSystem,
+    pc: &PulleyConst,
+    surface: f64,
+    mu: &impl Fn(f64, f64, f64, f64) -> f64,
+    body: [&[f64]; 6],
+    ofx: &mut [f64],
+    ofy: &mut [f64],
+    dz: &mut [f64],
+    torque: &mut [f64],
+    diss: &mut [f64],
+    mut rec: Option<&mut [[f64; 7]]>,
+) {
+    let k = ofx.len();
+    let [xs, ys, vxs, vys, zs, zfs] = body;
+    let (xs, ys, vxs, vys, zs, zfs) = (
+        &xs[..k],
+        &ys[..k],
+        &vxs[..k],
+        &vys[..k],
+        &zs[..k],
+        &zfs[..k],
+    );
+    let (ofy, dz, torque, diss) = (
+        &mut ofy[..k],
+        &mut dz[..k],
+        &mut torque[..k],
+        &mut diss[..k],
+    );
+    // constants in locals: the compiler need not prove that the stores
+    // below leave them alone
+    let PulleyConst {
+        cx,
+        cy,
+        radius,
+        radius2,
+        mu_s,
+        mu_k,
+        ..
+    } = *pc;
+    let (law, friction) = (sys.contact, sys.friction);
+    for i in 0..k {
+        let (rx, ry) = (xs[i] - cx, ys[i] - cy);
+        let (vx, vy, z) = (vxs[i], vys[i], zs[i]);
+        // eq. 4-8: direction, penetration and its rate
+        let d2 = rx * rx + ry * ry;
+        let dist = d2.sqrt();
+        let inv = 1.0 / dist.max(1e-12);
+        let (nx, ny) = (rx * inv, ry * inv);
+        let p = radius - dist;
+        let p_dot = -(vx * nx + vy * ny);
+        let (normal, elastic) = law.normal_force(p, p_dot);
+        // eq. 14-18 with the pulley radius as lever: v_T = omega r_p - v.tau
+        let (tx, ty) = (-ny, nx);
+        let v_t = surface - (vx * tx + vy * ty);
+        let zf = zfs[i];
+        let f = mu(v_t, z, mu_s * zf, mu_k * zf) * normal; // eq. 19, along +tau
+        let fx = normal * nx + f * tx;
+        let fy = normal * ny + f * ty;
+        let inside = d2 < radius2;
+        let keep = |v: f64| if inside { v } else { 0.0 };
+        ofx[i] = keep(fx);
+        ofy[i] = keep(fy);
+        dz[i] = keep(friction.creep_rate(v_t, z));
+        torque[i] = keep(radius * f);
+        diss[i] = keep((normal - elastic) * p_dot + f * v_t);
+        if let Some(r) = rec.as_deref_mut() {
+            r[i] = [normal, f, v_t, p, fx, fy, f64::from(u8::from(inside))];
+        }
     }
 }
