@@ -116,53 +116,65 @@ pub enum SimdBuild {
 /// Bodies per block of the right-hand side (scratch of ~9 KiB, stays in L1).
 pub const BLOCK: usize = 64;
 
+/// The contact loops run to a multiple of `PAD` bodies (the widest vector,
+/// AVX-512's 8 doubles), so that a short arc does not end in scalar
+/// iterations of the force laws; the lanes past the end compute on stale
+/// scratch values and are discarded. (Padding the other loops the same way
+/// measured slower.)
+const PAD: usize = 8;
+
+#[inline(always)]
+fn padded(len: usize) -> usize {
+    len.next_multiple_of(PAD)
+}
+
 /// Structure-of-arrays scratch of one block of bodies (see [`BeltSystem::rhs`]).
 #[derive(Clone)]
 struct Block {
     // body m = 0..len + 2 (body i0 - 1 + m)
-    x: [f64; BLOCK + 2],
-    y: [f64; BLOCK + 2],
-    phi: [f64; BLOCK + 2],
-    vx: [f64; BLOCK + 2],
-    vy: [f64; BLOCK + 2],
-    w: [f64; BLOCK + 2],
-    z: [f64; BLOCK + 2],
+    x: [f64; BLOCK + 2 + PAD],
+    y: [f64; BLOCK + 2 + PAD],
+    phi: [f64; BLOCK + 2 + PAD],
+    vx: [f64; BLOCK + 2 + PAD],
+    vy: [f64; BLOCK + 2 + PAD],
+    w: [f64; BLOCK + 2 + PAD],
+    z: [f64; BLOCK + 2 + PAD],
     /// Half body vector (l/2) (cos phi, sin phi).
-    hx: [f64; BLOCK + 2],
-    hy: [f64; BLOCK + 2],
+    hx: [f64; BLOCK + 2 + PAD],
+    hy: [f64; BLOCK + 2 + PAD],
     // SDE k = 0..=len (SDE i0 + k, between body m = k and m = k + 1): force
     // on body k + 1 (minus it on body k), torque on body k + 1 and on body
     // k, dissipated power
-    fx: [f64; BLOCK + 1],
-    fy: [f64; BLOCK + 1],
-    torque_cur: [f64; BLOCK + 1],
-    torque_prev: [f64; BLOCK + 1],
-    diss: [f64; BLOCK + 1],
+    fx: [f64; BLOCK + 1 + PAD],
+    fy: [f64; BLOCK + 1 + PAD],
+    torque_cur: [f64; BLOCK + 1 + PAD],
+    torque_prev: [f64; BLOCK + 1 + PAD],
+    diss: [f64; BLOCK + 1 + PAD],
     // body j = 0..len (body i0 + j): friction zone factor, own forces
     // (gravity, contact), creep rate, accelerations
-    zf: [f64; BLOCK],
-    ofx: [f64; BLOCK],
-    ofy: [f64; BLOCK],
-    dz: [f64; BLOCK],
-    ax: [f64; BLOCK],
-    ay: [f64; BLOCK],
-    alpha: [f64; BLOCK],
+    zf: [f64; BLOCK + PAD],
+    ofx: [f64; BLOCK + PAD],
+    ofy: [f64; BLOCK + PAD],
+    dz: [f64; BLOCK + PAD],
+    ax: [f64; BLOCK + PAD],
+    ay: [f64; BLOCK + PAD],
+    alpha: [f64; BLOCK + PAD],
     // contacts of body j with the pulley at hand: moment r f, power, and
     // the recorded values (normal force, friction force, v_T, penetration,
     // force on the body, inside)
-    cfx: [f64; BLOCK],
-    cfy: [f64; BLOCK],
-    cdz: [f64; BLOCK],
-    torque_q: [f64; BLOCK],
-    diss_q: [f64; BLOCK],
-    rec_q: [[f64; 7]; BLOCK],
+    cfx: [f64; BLOCK + PAD],
+    cfy: [f64; BLOCK + PAD],
+    cdz: [f64; BLOCK + PAD],
+    torque_q: [f64; BLOCK + PAD],
+    diss_q: [f64; BLOCK + PAD],
+    rec_q: [[f64; 7]; BLOCK + PAD],
 }
 
 impl Block {
     fn new() -> Self {
-        const C: [f64; BLOCK + 2] = [0.0; BLOCK + 2];
-        const S: [f64; BLOCK + 1] = [0.0; BLOCK + 1];
-        const B: [f64; BLOCK] = [0.0; BLOCK];
+        const C: [f64; BLOCK + 2 + PAD] = [0.0; BLOCK + 2 + PAD];
+        const S: [f64; BLOCK + 1 + PAD] = [0.0; BLOCK + 1 + PAD];
+        const B: [f64; BLOCK + PAD] = [0.0; BLOCK + PAD];
         Self {
             x: C,
             y: C,
@@ -190,7 +202,7 @@ impl Block {
             cdz: B,
             torque_q: B,
             diss_q: B,
-            rec_q: [[0.0; 7]; BLOCK],
+            rec_q: [[0.0; 7]; BLOCK + PAD],
         }
     }
 
@@ -731,7 +743,9 @@ impl BeltSystem {
         // sums its contacts in pulley order, as a plain loop would.
         let weight = self.mass * self.gravity;
         b.zf[..len].copy_from_slice(&self.zone_factor[i0..i0 + len]);
-        for j in 0..len {
+        let end = padded(len);
+        assert!(end < BLOCK + 1 + PAD);
+        for j in 0..end {
             b.ofx[j] = 0.0;
             b.ofy[j] = -weight;
             b.dz[j] = 0.0;
@@ -787,9 +801,11 @@ impl BeltSystem {
         // the bodies lo..hi span every body inside the circle (usually one
         // arc); the rest of the block is skipped
         let (mut lo, mut hi) = (len, 0);
-        for j in 0..len {
+        let end = padded(len);
+        assert!(end < BLOCK + 1 + PAD);
+        for j in 0..end {
             let (rx, ry) = (b.x[j + 1] - pc.cx, b.y[j + 1] - pc.cy);
-            let inside = rx * rx + ry * ry < pc.radius2;
+            let inside = (rx * rx + ry * ry < pc.radius2) & (j < len);
             lo = lo.min(if inside { j } else { len });
             hi = hi.max(if inside { j + 1 } else { 0 });
         }
@@ -798,27 +814,29 @@ impl BeltSystem {
         }
         // columns of bodies lo..hi (separate slices: no aliasing, no bounds
         // checks, the loop vectorises)
+        let end = lo + padded(hi - lo);
         contact_arc(
             self,
             pc,
             surface,
             &mu,
+            hi - lo,
             [
-                &b.x[lo + 1..=hi],
-                &b.y[lo + 1..=hi],
-                &b.vx[lo + 1..=hi],
-                &b.vy[lo + 1..=hi],
-                &b.z[lo + 1..=hi],
-                &b.zf[lo..hi],
+                &b.x[lo + 1..=end],
+                &b.y[lo + 1..=end],
+                &b.vx[lo + 1..=end],
+                &b.vy[lo + 1..=end],
+                &b.z[lo + 1..=end],
+                &b.zf[lo..end],
             ],
-            &mut b.cfx[lo..hi],
-            &mut b.cfy[lo..hi],
-            &mut b.cdz[lo..hi],
-            &mut b.torque_q[lo..hi],
-            &mut b.diss_q[lo..hi],
-            R::ACTIVE.then_some(&mut b.rec_q[lo..hi]),
+            &mut b.cfx[lo..end],
+            &mut b.cfy[lo..end],
+            &mut b.cdz[lo..end],
+            &mut b.torque_q[lo..end],
+            &mut b.diss_q[lo..end],
+            R::ACTIVE.then_some(&mut b.rec_q[lo..end]),
         );
-        for j in lo..hi {
+        for j in lo..end {
             b.ofx[j] += b.cfx[j];
             b.ofy[j] += b.cfy[j];
             b.dz[j] += b.cdz[j];
@@ -906,7 +924,8 @@ fn ramp_rate(p: &PulleyConst, amp: f64, t: f64) -> f64 {
 
 /// Contact and friction (eq. 4-19) of a run of bodies with pulley `pc`
 /// (surface speed `surface`, friction coefficient `mu(v_T, z, mu_s, mu_k)`).
-/// `body` holds the columns x, y, vx, vy, z and friction zone factor; the
+/// `body` holds the columns x, y, vx, vy, z and friction zone factor of the
+/// run (the first `valid` bodies, then padding that is ignored); the
 /// contact forces and creep rates are added to `ofx`, `ofy`, `dz`, the
 /// moments r f about the pulley axis and the dissipated powers stored in
 /// `torque`, `diss`, and, if given, the recorded values in `rec`. Bodies
@@ -920,6 +939,7 @@ fn contact_arc(
     pc: &PulleyConst,
     surface: f64,
     mu: &impl Fn(f64, f64, f64, f64) -> f64,
+    valid: usize,
     body: [&[f64]; 6],
     ofx: &mut [f64],
     ofy: &mut [f64],
@@ -974,7 +994,7 @@ fn contact_arc(
         let f = mu(v_t, z, mu_s * zf, mu_k * zf) * normal; // eq. 19, along +tau
         let fx = normal * nx + f * tx;
         let fy = normal * ny + f * ty;
-        let inside = d2 < radius2;
+        let inside = (d2 < radius2) & (i < valid);
         let keep = |v: f64| if inside { v } else { 0.0 };
         ofx[i] = keep(fx);
         ofy[i] = keep(fy);
