@@ -239,11 +239,22 @@ impl Block {
     /// z]` each) into the columns at index `m` onwards. Pure data movement:
     /// two bodies at a time by 128-bit loads and shuffles on x86-64 (SSE2,
     /// part of the baseline), element by element elsewhere.
+    /// With `WIDE` (AVX available), four bodies at a time first.
     #[inline(always)]
-    fn gather(&mut self, m: usize, src: &[f64]) {
+    fn gather<const WIDE: bool>(&mut self, m: usize, src: &[f64]) {
         let count = src.len() / BODY_DOF;
         assert!(m + count <= BLOCK + 2 && src.len() == count * BODY_DOF);
         let mut k = 0;
+        #[cfg(target_arch = "x86_64")]
+        if WIDE {
+            while k + 4 <= count {
+                // SAFETY: WIDE is set only in builds for CPUs with AVX;
+                // bodies k..k + 4 lie in `src`, columns m + k..m + k + 4 in
+                // the arrays (asserted above).
+                unsafe { self.gather4(m + k, src.as_ptr().add(BODY_DOF * k)) };
+                k += 4;
+            }
+        }
         #[cfg(target_arch = "x86_64")]
         {
             use std::arch::x86_64::{_mm_loadu_pd, _mm_shuffle_pd, _mm_storeu_pd};
@@ -287,11 +298,38 @@ impl Block {
         }
     }
 
+    /// Four bodies at `s` (28 values) into columns d..d + 4: two 4 x 4
+    /// transposes of (x, y, phi, vx) and (vx, vy, omega, z).
+    ///
+    /// # Safety
+    /// The CPU has AVX; `s` points to 28 readable values; d + 4 <= BLOCK + 2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    #[inline]
+    unsafe fn gather4(&mut self, d: usize, s: *const f64) {
+        use std::arch::x86_64::{_mm256_loadu_pd, _mm256_storeu_pd};
+        let rows =
+            |o: usize| std::array::from_fn(|b| unsafe { _mm256_loadu_pd(s.add(BODY_DOF * b + o)) });
+        let [x, y, phi, _] = transpose4(rows(0));
+        let [vx, vy, w, z] = transpose4(rows(3));
+        for (col, v) in [
+            (&mut self.x, x),
+            (&mut self.y, y),
+            (&mut self.phi, phi),
+            (&mut self.vx, vx),
+            (&mut self.vy, vy),
+            (&mut self.w, w),
+            (&mut self.z, z),
+        ] {
+            unsafe { _mm256_storeu_pd(col.as_mut_ptr().add(d), v) };
+        }
+    }
+
     /// Writes the derivatives of bodies 0..len of the block into `dst`
     /// (`[vx, vy, omega, ax, ay, alpha, dz/dt]` each), the inverse of
     /// [`Self::gather`].
     #[inline(always)]
-    fn scatter(&self, dst: &mut [f64]) {
+    fn scatter<const WIDE: bool>(&self, dst: &mut [f64]) {
         let count = dst.len() / BODY_DOF;
         assert!(count <= BLOCK && dst.len() == count * BODY_DOF);
         let cols: [&[f64]; BODY_DOF] = [
@@ -304,6 +342,20 @@ impl Block {
             &self.dz,
         ];
         let mut k = 0;
+        #[cfg(target_arch = "x86_64")]
+        if WIDE {
+            while k + 4 <= count {
+                // SAFETY: WIDE is set only in builds for CPUs with AVX;
+                // every column holds at least `count` values and bodies
+                // k..k + 4 lie in `dst` (asserted above).
+                unsafe {
+                    let c: [*const f64; BODY_DOF] =
+                        std::array::from_fn(|i| cols[i].as_ptr().add(k));
+                    scatter4(c, dst.as_mut_ptr().add(BODY_DOF * k));
+                }
+                k += 4;
+            }
+        }
         #[cfg(target_arch = "x86_64")]
         {
             use std::arch::x86_64::{
@@ -520,7 +572,7 @@ impl BeltSystem {
             unsafe { self.rhs_avx2(t, y, dy, rec) };
             return;
         }
-        self.rhs_impl(t, y, dy, rec);
+        self.rhs_impl::<R, false>(t, y, dy, rec);
     }
 
     /// [`Self::rhs`] compiled for one instruction set, if the CPU has it
@@ -536,7 +588,7 @@ impl BeltSystem {
         rec: &mut R,
     ) -> bool {
         match build {
-            SimdBuild::Baseline => self.rhs_impl(t, y, dy, rec),
+            SimdBuild::Baseline => self.rhs_impl::<R, false>(t, y, dy, rec),
             #[cfg(target_arch = "x86_64")]
             SimdBuild::Avx2 if std::arch::is_x86_feature_detected!("avx2") => {
                 // SAFETY: the CPU has AVX2 (checked above).
@@ -558,7 +610,7 @@ impl BeltSystem {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx512f")]
     unsafe fn rhs_avx512<R: Recorder>(&self, t: f64, y: &[f64], dy: &mut [f64], rec: &mut R) {
-        self.rhs_impl(t, y, dy, rec);
+        self.rhs_impl::<R, true>(t, y, dy, rec);
     }
 
     /// [`Self::rhs`] compiled for AVX2 (4 doubles per vector instead of
@@ -566,11 +618,20 @@ impl BeltSystem {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     unsafe fn rhs_avx2<R: Recorder>(&self, t: f64, y: &[f64], dy: &mut [f64], rec: &mut R) {
-        self.rhs_impl(t, y, dy, rec);
+        self.rhs_impl::<R, true>(t, y, dy, rec);
     }
 
+    /// `WIDE`: compiled into a build with AVX (the layout conversions then
+    /// move four bodies at a time); only the AVX2 and AVX-512 builds, called
+    /// after the CPU check, set it.
     #[inline(always)]
-    fn rhs_impl<R: Recorder>(&self, t: f64, y: &[f64], dy: &mut [f64], rec: &mut R) {
+    fn rhs_impl<R: Recorder, const WIDE: bool>(
+        &self,
+        t: f64,
+        y: &[f64],
+        dy: &mut [f64],
+        rec: &mut R,
+    ) {
         let n = self.n;
         let np = self.np;
         assert!(y.len() >= self.dim() && dy.len() >= self.dim());
@@ -597,7 +658,8 @@ impl BeltSystem {
         while i0 < n {
             let len = BLOCK.min(n - i0);
             let first = i0 == 0;
-            p_diss += self.block(blk, i0, len, first, y, dy, &omega_p, &mut belt_torque, rec);
+            p_diss +=
+                self.block::<R, WIDE>(blk, i0, len, first, y, dy, &omega_p, &mut belt_torque, rec);
             i0 += len;
             if i0 < n {
                 blk.carry(len);
@@ -639,7 +701,7 @@ impl BeltSystem {
     /// Returns the power dissipated in their contacts and left SDEs.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
-    fn block<R: Recorder>(
+    fn block<R: Recorder, const WIDE: bool>(
         &self,
         b: &mut Block,
         i0: usize,
@@ -664,14 +726,14 @@ impl BeltSystem {
         // is body 0; in between the bodies are contiguous.
         let (m_lo, m_hi) = (m0.max(1), if last { len + 1 } else { len + 2 });
         if first {
-            b.gather(0, &y[BODY_DOF * (n - 1)..BODY_DOF * n]);
+            b.gather::<WIDE>(0, &y[BODY_DOF * (n - 1)..BODY_DOF * n]);
         }
-        b.gather(
+        b.gather::<WIDE>(
             m_lo,
             &y[BODY_DOF * (i0 + m_lo - 1)..BODY_DOF * (i0 + m_hi - 1)],
         );
         if last {
-            b.gather(len + 1, &y[..BODY_DOF]);
+            b.gather::<WIDE>(len + 1, &y[..BODY_DOF]);
         }
         for m in m0..len + 2 {
             let (sn, cs) = trig::sin_cos(b.phi[m]);
@@ -776,7 +838,7 @@ impl BeltSystem {
             let torque = b.torque_cur[j] + b.torque_prev[j + 1];
             b.alpha[j] = torque * inv_i - c * b.w[m];
         }
-        b.scatter(&mut dy[BODY_DOF * i0..BODY_DOF * (i0 + len)]);
+        b.scatter::<WIDE>(&mut dy[BODY_DOF * i0..BODY_DOF * (i0 + len)]);
         p_diss
     }
 
@@ -919,6 +981,47 @@ fn ramp_rate(p: &PulleyConst, amp: f64, t: f64) -> f64 {
         amp / p.ramp_time
     } else {
         0.0
+    }
+}
+
+/// 4 x 4 transpose: rows (r_i0, r_i1, r_i2, r_i3) to columns.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+#[inline]
+fn transpose4(r: [std::arch::x86_64::__m256d; 4]) -> [std::arch::x86_64::__m256d; 4] {
+    use std::arch::x86_64::{_mm256_permute2f128_pd, _mm256_unpackhi_pd, _mm256_unpacklo_pd};
+    let t0 = _mm256_unpacklo_pd(r[0], r[1]); // r00 r10 r02 r12
+    let t1 = _mm256_unpackhi_pd(r[0], r[1]); // r01 r11 r03 r13
+    let t2 = _mm256_unpacklo_pd(r[2], r[3]);
+    let t3 = _mm256_unpackhi_pd(r[2], r[3]);
+    [
+        _mm256_permute2f128_pd(t0, t2, 0x20),
+        _mm256_permute2f128_pd(t1, t3, 0x20),
+        _mm256_permute2f128_pd(t0, t2, 0x31),
+        _mm256_permute2f128_pd(t1, t3, 0x31),
+    ]
+}
+
+/// Seven columns of four bodies each (`c[i]` -> values i of bodies 0..4)
+/// to four bodies at `o` (28 values): two 4 x 4 transposes, of columns
+/// 0-3 and 3-6, stored at offsets 0 and 3 of each body (value 3 twice).
+///
+/// # Safety
+/// The CPU has AVX; each `c[i]` points to 4 readable values, `o` to 28
+/// writable ones.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+#[inline]
+unsafe fn scatter4(c: [*const f64; BODY_DOF], o: *mut f64) {
+    use std::arch::x86_64::{_mm256_loadu_pd, _mm256_storeu_pd};
+    let col = |i: usize| unsafe { _mm256_loadu_pd(c[i]) };
+    let lo = transpose4([col(0), col(1), col(2), col(3)]);
+    let hi = transpose4([col(3), col(4), col(5), col(6)]);
+    for b in 0..4 {
+        unsafe {
+            _mm256_storeu_pd(o.add(BODY_DOF * b), lo[b]);
+            _mm256_storeu_pd(o.add(BODY_DOF * b + 3), hi[b]);
+        }
     }
 }
 
