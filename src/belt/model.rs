@@ -497,7 +497,7 @@ impl BeltSystem {
                 b: c.damping * l,
                 inv_p_max: 1.0 / c.p_max,
             },
-            friction: Friction::new(f.law, f.dv, f.creep_max),
+            friction: Friction::new(f.law, f.dv, f.creep_max, f.creep_damping_time),
             zone_factor,
             eps2: (1e-6 * l) * (1e-6 * l),
             relax_damping: 0.0,
@@ -816,8 +816,8 @@ impl BeltSystem {
         for (q, pc) in self.pulleys[..self.np].iter().enumerate() {
             let surface = omega_p[q] * pc.radius;
             let (torque, diss) = if fr.law == FrictionLaw::Creep {
-                self.contacts(b, i0, len, q, surface, rec, move |_v, z, ms, mk| {
-                    fr.creep_coefficient(z, ms, mk)
+                self.contacts(b, i0, len, q, surface, rec, move |v, z, ms, mk| {
+                    fr.creep_coefficient(v, z, ms, mk)
                 })
             } else {
                 self.contacts(b, i0, len, q, surface, rec, move |v, z, ms, mk| {
