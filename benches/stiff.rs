@@ -32,9 +32,16 @@ fn time_per_call(reps: usize, mut f: impl FnMut()) -> f64 {
     )
 }
 
+/// Kernel costs at `n` bodies: the 5PK drive, or below 100 bodies (too few
+/// for its 27 mm pulleys) the section-3 drive, as `cargo bench --bench belt`.
 fn kernels(n: usize) {
-    let mut p = DriveParams::kubas_section4();
+    let mut p = if n < 100 {
+        DriveParams::kubas_section3()
+    } else {
+        DriveParams::kubas_section4()
+    };
     p.belt.n_bodies = n;
+    p.probe_body = 0;
     p.solver.method = Method::Rosenbrock;
     let mut d = Drive::new(&p, 0.0).expect("valid drive");
     d.advance(0.05).expect("runs");
@@ -58,11 +65,14 @@ fn kernels(n: usize) {
     });
     let per = |x: f64| x * 1e9 / n as f64;
     println!(
-        "n = {n:5}: ns per body: rhs {:.1}, jacobian {:.1}, factor {:.1}, solve {:.1}",
+        "n = {n:5}: ns per body: rhs {:.1}, jacobian {:.1} ({:.1} rhs), factor {:.1} ({:.1} rhs), solve {:.1} ({:.1} rhs)",
         per(rhs),
         per(j),
+        j / rhs,
         per(f),
-        per(s)
+        f / rhs,
+        per(s),
+        s / rhs
     );
 }
 
@@ -151,6 +161,7 @@ fn main() {
         for n in [60usize, 150, 300, 600, 1200] {
             let mut p = DriveParams::kubas_section4();
             p.belt.n_bodies = n;
+            p.probe_body = 0;
             p.solver.method = Method::Rosenbrock;
             run(&format!("n = {n}"), &p, if quick { 0.05 } else { 0.5 });
         }

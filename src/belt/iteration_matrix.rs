@@ -7,7 +7,8 @@
 //!    `S = I - c^2 dA/dq - c dA/dv - (creep terms)`.
 //! 2. S is block tridiagonal with 3x3 blocks, cyclic (the belt is a closed
 //!    loop), plus dense rows and columns for the pulley speeds. Body n-1 and
-//!    the free pulleys form a border of at most 9 unknowns; bodies 0..n-2 are
+//!    the free pulleys form a border of 3 + (free pulleys) unknowns, its size
+//!    a type parameter (no unused rows or columns); bodies 0..n-2 are
 //!    eliminated in order by block Gaussian elimination (fill-in only in the
 //!    border), the border is solved densely (LU with partial pivoting), and
 //!    the bodies are found by back substitution.
@@ -20,12 +21,11 @@ use super::model::{BeltSystem, BODY_DOF};
 use super::params::MAX_PULLEYS;
 use nalgebra::{Matrix3, RowVector3, SMatrix, SVector, Vector3};
 
-/// Largest border: body n-1 (3) and six pulleys.
-const NB: usize = 3 + MAX_PULLEYS;
-type Border = SMatrix<f64, NB, NB>;
-
+/// The factors for a border of `NB` unknowns: body n-1 (3) and the free
+/// (torque-driven) pulleys. The border's size is a type parameter so that
+/// its dense products have no unused rows and columns.
 #[derive(Clone, Debug, PartialEq)]
-pub struct IterationMatrix {
+pub struct Factors<const NB: usize> {
     c: f64,
     /// Border index of pulley j's speed (3 + k), or None if speed-driven.
     slot: [Option<usize>; MAX_PULLEYS],
@@ -40,15 +40,75 @@ pub struct IterationMatrix {
     /// Border rows after elimination, times D'_i^-1 (NB x 3).
     fd: Vec<SMatrix<f64, NB, 3>>,
     /// LU factors of the border's Schur complement, and its row order.
-    g: Border,
+    g: SMatrix<f64, NB, NB>,
     perm: [usize; NB],
     /// Scratch: reduced right-hand sides.
     rv: Vec<Vector3<f64>>,
     bz: Vec<f64>,
 }
 
+/// `I - c J` factored; one variant per border size 3 + free pulleys.
+#[derive(Clone, Debug, PartialEq)]
+pub enum IterationMatrix {
+    B3(Factors<3>),
+    B4(Factors<4>),
+    B5(Factors<5>),
+    B6(Factors<6>),
+    B7(Factors<7>),
+    B8(Factors<8>),
+    B9(Factors<9>),
+}
+
+const _: () = assert!(3 + MAX_PULLEYS == 9);
+
+macro_rules! each {
+    ($m:expr, $f:ident => $e:expr) => {
+        match $m {
+            IterationMatrix::B3($f) => $e,
+            IterationMatrix::B4($f) => $e,
+            IterationMatrix::B5($f) => $e,
+            IterationMatrix::B6($f) => $e,
+            IterationMatrix::B7($f) => $e,
+            IterationMatrix::B8($f) => $e,
+            IterationMatrix::B9($f) => $e,
+        }
+    };
+}
+
 impl IterationMatrix {
     pub fn new(sys: &BeltSystem) -> Self {
+        let free = (0..sys.np)
+            .filter(|&j| !sys.pulleys[j].speed_driven)
+            .count();
+        match 3 + free {
+            3 => Self::B3(Factors::new(sys)),
+            4 => Self::B4(Factors::new(sys)),
+            5 => Self::B5(Factors::new(sys)),
+            6 => Self::B6(Factors::new(sys)),
+            7 => Self::B7(Factors::new(sys)),
+            8 => Self::B8(Factors::new(sys)),
+            _ => Self::B9(Factors::new(sys)),
+        }
+    }
+
+    /// Unknowns in the border (3 + free pulleys).
+    pub fn border_size(&self) -> usize {
+        each!(self, f => f.perm.len())
+    }
+
+    /// Factors `I - c J`. Returns false if a pivot block is singular.
+    pub fn factor(&mut self, sys: &BeltSystem, jac: &Jacobian, c: f64) -> bool {
+        each!(self, f => f.factor(sys, jac, c))
+    }
+
+    /// Overwrites `b` (a full state-sized vector) with x, `(I - c J) x = b`.
+    pub fn solve(&mut self, sys: &BeltSystem, jac: &Jacobian, b: &mut [f64]) {
+        each!(self, f => f.solve(sys, jac, b))
+    }
+}
+
+impl<const NB: usize> Factors<NB> {
+    fn new(sys: &BeltSystem) -> Self {
         let m = sys.n.saturating_sub(1);
         let mut slot = [None; MAX_PULLEYS];
         let mut k = 3;
@@ -66,7 +126,7 @@ impl IterationMatrix {
             u: vec![Matrix3::zeros(); m],
             e: vec![SMatrix::zeros(); m],
             fd: vec![SMatrix::zeros(); m],
-            g: Border::identity(),
+            g: SMatrix::identity(),
             perm: std::array::from_fn(|i| i),
             rv: vec![Vector3::zeros(); sys.n],
             bz: vec![0.0; sys.n],
@@ -166,14 +226,13 @@ impl IterationMatrix {
         e
     }
 
-    /// Factors `I - c J`. Returns false if a pivot block is singular.
-    pub fn factor(&mut self, sys: &BeltSystem, jac: &Jacobian, c: f64) -> bool {
+    fn factor(&mut self, sys: &BeltSystem, jac: &Jacobian, c: f64) -> bool {
         let n = sys.n;
         let m = n - 1;
         let last = n - 1;
         self.c = c;
         // border block G: body n-1 and pulleys
-        let mut g = Border::identity();
+        let mut g = SMatrix::<f64, NB, NB>::identity();
         g.fixed_view_mut::<3, 3>(0, 0)
             .copy_from(&Self::block(jac, c, last, SELF));
         let touching_last = jac.bodies[last].touching;
@@ -250,9 +309,8 @@ impl IterationMatrix {
         true
     }
 
-    /// Overwrites `b` (a full state-sized vector) with x, `(I - c J) x = b`.
     #[allow(clippy::needless_range_loop)] // indices run over several parallel arrays
-    pub fn solve(&mut self, sys: &BeltSystem, jac: &Jacobian, b: &mut [f64]) {
+    fn solve(&mut self, sys: &BeltSystem, jac: &Jacobian, b: &mut [f64]) {
         let n = sys.n;
         let m = n - 1;
         let c = self.c;
