@@ -16,6 +16,7 @@
 
 use super::model::{BeltSystem, BODY_DOF};
 use super::params::MAX_PULLEYS;
+use super::trig;
 use nalgebra::{Matrix2, Matrix3, RowVector3, Vector2, Vector3};
 
 /// Derivatives of one body's rows: accelerations (vx', vy', omega') and creep rate z'.
@@ -186,7 +187,21 @@ impl BeltSystem {
         for i in 0..n {
             let o = BODY_DOF * i;
             let b = &mut jac.bodies[i];
-            *b = BodyJacobian::default();
+            // reset what this evaluation accumulates into or may leave
+            // unset; the entries of pulleys j >= np stay zero from `new`
+            b.aq = Default::default();
+            b.av = Default::default();
+            b.az = Vector3::zeros();
+            b.gq = RowVector3::zeros();
+            b.gv = RowVector3::zeros();
+            b.touching = 0;
+            for j in 0..np {
+                b.aw[j] = Vector3::zeros();
+                b.gw[j] = 0.0;
+                b.pq[j] = RowVector3::zeros();
+                b.pv[j] = RowVector3::zeros();
+                b.pz[j] = 0.0;
+            }
             let x = Vector2::new(y[o], y[o + 1]);
             let v = Vector2::new(y[o + 3], y[o + 4]);
             let z = y[o + 6];
@@ -265,11 +280,14 @@ impl BeltSystem {
         // SDE k joins the right end of body p = k-1 to the left end of body
         // c = k. Gap d = J_d q-ish, generalized forces Q = -J_d^T F (eq. 20-23).
         let (ks, bs, kt, bt) = (self.k_axial, self.b_axial, self.k_bend, self.b_bend);
+        // sin/cos of each body angle once: body k's is body k+1's "previous"
+        let mut prev_sc = trig::sin_cos(y[BODY_DOF * (n - 1) + 2]);
         for k in 0..n {
             let p = if k == 0 { n - 1 } else { k - 1 };
             let (op, oc) = (BODY_DOF * p, BODY_DOF * k);
-            let (sp, cp) = y[op + 2].sin_cos();
-            let (sc, cc) = y[oc + 2].sin_cos();
+            let (sp, cp) = prev_sc;
+            let (sc, cc) = trig::sin_cos(y[oc + 2]);
+            prev_sc = (sc, cc);
             let hp = Vector2::new(hl * cp, hl * sp);
             let hc = Vector2::new(hl * cc, hl * sc);
             let (hpp, hcp) = (perp(hp), perp(hc));
