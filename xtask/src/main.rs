@@ -1,4 +1,4 @@
-//! Project tasks: `cargo xtask <fmu|venv|run|validate|crosscheck|fmi-sim|test|valgrind>`.
+//! Project tasks: `cargo xtask <fmu|venv|run|validate|crosscheck|fmi-sim|test|valgrind|bench>`.
 //!
 //! * `fmu`  - release build, then `dist/BeltDrive.fmu` (model description with
 //!   its GUID, the Linux binary, generated documentation, model icon).
@@ -17,7 +17,11 @@
 //!   (`validation/validate.py`; plots in `docs/validation/`, tables in
 //!   `docs/validation.md` and `docs/model.md`). Arguments after `--` go to
 //!   the script (`--quick --out DIR`, `--method`, `--dv`, `--jobs`, ...).
+//! * `bench [--quick] [--core N] [--no-docs]` - the benchmark suites
+//!   (`benches/belt.rs`, `benches/stiff.rs`); rewrites the generated part of
+//!   `docs/benchmarks.md` (see `bench.rs`).
 
+mod bench;
 mod docs;
 #[path = "../../modelDescription/guid.rs"]
 mod guid;
@@ -257,8 +261,10 @@ fn main() {
         Some("fmi-sim") => tools::fmi_sim().map(|p| println!("{}", p.display())),
         Some("test") => test(),
         Some("valgrind") => valgrind(),
+        Some("bench") => bench::bench(&args[1..]),
         _ => Err(
-            "usage: cargo xtask <fmu|venv|run|validate|crosscheck|fmi-sim|test|valgrind>".into(),
+            "usage: cargo xtask <fmu|venv|run|validate|crosscheck|fmi-sim|test|valgrind|bench>"
+                .into(),
         ),
     };
     if let Err(e) = result {

@@ -1,0 +1,250 @@
+//! `cargo xtask bench [--quick] [--core N]`: runs the benchmark suites
+//! (`benches/belt.rs` all sections, `benches/stiff.rs` all sections) and
+//! rewrites the generated part of `docs/benchmarks.md`, the text between
+//! `<!-- bench:begin -->` and `<!-- bench:end -->`, with their tables, the
+//! machine (CPU model and cores from /proc/cpuinfo), the command, the date,
+//! the commit and the load average. The hand-written text around the markers
+//! is kept.
+//!
+//! * `--quick`: short horizons (a smoke run of the whole chain; the figures
+//!   are not the documented ones);
+//! * `--core N`: pins this process, and so cargo and the benchmarks it
+//!   starts, to core N (sched_setaffinity) - the figures are CPU times of
+//!   one thread, so one quiet core is what they need;
+//! * `--no-docs`: print only, leave docs/benchmarks.md alone.
+
+use crate::{cargo, root, Result};
+use std::fs;
+use std::io::{BufRead, BufReader};
+use std::process::{Command, Stdio};
+use std::time::Instant;
+
+const BEGIN: &str = "<!-- bench:begin -->";
+const END: &str = "<!-- bench:end -->";
+
+struct Options {
+    quick: bool,
+    core: Option<usize>,
+    docs: bool,
+}
+
+fn parse(args: &[String]) -> Result<Options> {
+    let mut o = Options {
+        quick: false,
+        core: None,
+        docs: true,
+    };
+    let mut it = args.iter().filter(|a| a.as_str() != "--");
+    while let Some(a) = it.next() {
+        match a.as_str() {
+            "--quick" => o.quick = true,
+            "--no-docs" => o.docs = false,
+            "--core" => {
+                let n = it
+                    .next()
+                    .and_then(|s| s.parse().ok())
+                    .ok_or("--core needs a core number")?;
+                o.core = Some(n);
+            }
+            other => {
+                return Err(format!(
+                    "bench: unknown argument {other} (usage: cargo xtask bench [--quick] [--core N] [--no-docs])"
+                ))
+            }
+        }
+    }
+    Ok(o)
+}
+
+/// Pins the calling process (and the children it starts later) to `core`.
+fn pin(core: usize) -> Result<()> {
+    if core >= libc::CPU_SETSIZE as usize {
+        return Err(format!("--core {core}: out of range"));
+    }
+    // SAFETY: cpu_set_t is plain data, zero-initialised and then filled by
+    // the libc helpers; pid 0 is this process.
+    let rc = unsafe {
+        let mut set: libc::cpu_set_t = std::mem::zeroed();
+        libc::CPU_ZERO(&mut set);
+        libc::CPU_SET(core, &mut set);
+        libc::sched_setaffinity(0, std::mem::size_of::<libc::cpu_set_t>(), &set)
+    };
+    if rc != 0 {
+        return Err(format!(
+            "--core {core}: sched_setaffinity failed: {}",
+            std::io::Error::last_os_error()
+        ));
+    }
+    Ok(())
+}
+
+/// Runs `cmd`, echoing its standard output line by line (progress) and
+/// returning it.
+fn run_capture(cmd: &mut Command, what: &str) -> Result<String> {
+    eprintln!("xtask: {what}: {cmd:?}");
+    let t = Instant::now();
+    let mut child = cmd
+        .current_dir(root())
+        .stdout(Stdio::piped())
+        .spawn()
+        .map_err(|e| format!("{what}: cannot start: {e}"))?;
+    let mut out = String::new();
+    let stdout = child.stdout.take().expect("piped");
+    for line in BufReader::new(stdout).lines() {
+        let line = line.map_err(|e| format!("{what}: reading its output: {e}"))?;
+        println!("{line}");
+        out.push_str(&line);
+        out.push('\n');
+    }
+    let status = child.wait().map_err(|e| e.to_string())?;
+    if !status.success() {
+        return Err(format!("{what} failed ({status})"));
+    }
+    eprintln!("xtask: {what}: done in {:.0} s", t.elapsed().as_secs_f64());
+    Ok(out)
+}
+
+/// CPU model and logical core count from /proc/cpuinfo.
+fn machine() -> String {
+    let info = fs::read_to_string("/proc/cpuinfo").unwrap_or_default();
+    let field = |name: &str| {
+        info.lines()
+            .find(|l| l.starts_with(name))
+            .and_then(|l| l.split_once(':'))
+            .map(|(_, v)| v.trim().to_string())
+    };
+    let cores = info.lines().filter(|l| l.starts_with("processor")).count();
+    let flags = field("flags").unwrap_or_default();
+    let simd: Vec<&str> = ["avx2", "fma", "avx512f"]
+        .into_iter()
+        .filter(|f| flags.split_whitespace().any(|x| x == *f))
+        .collect();
+    format!(
+        "`{}` ({} MHz), {cores} logical cores, SIMD: {}",
+        field("model name").unwrap_or_else(|| "unknown CPU".into()),
+        field("cpu MHz").unwrap_or_else(|| "?".into()),
+        if simd.is_empty() {
+            "baseline only".to_string()
+        } else {
+            simd.join(", ")
+        }
+    )
+}
+
+fn load_average() -> String {
+    fs::read_to_string("/proc/loadavg")
+        .map(|s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
+        .unwrap_or_else(|_| "?".into())
+}
+
+fn command_output(cmd: &mut Command) -> Option<String> {
+    let o = cmd.current_dir(root()).output().ok()?;
+    o.status
+        .success()
+        .then(|| String::from_utf8_lossy(&o.stdout).trim().to_string())
+}
+
+/// Replaces the text between the markers in `doc` with `body`.
+fn splice(doc: &str, body: &str) -> Result<String> {
+    let (Some(b), Some(e)) = (doc.find(BEGIN), doc.find(END)) else {
+        return Err(format!(
+            "docs/benchmarks.md has no {BEGIN} ... {END} markers"
+        ));
+    };
+    if e < b {
+        return Err("docs/benchmarks.md: the end marker precedes the begin marker".into());
+    }
+    Ok(format!("{}{BEGIN}\n{body}{}", &doc[..b], &doc[e..]))
+}
+
+pub fn bench(args: &[String]) -> Result<()> {
+    let o = parse(args)?;
+    if let Some(core) = o.core {
+        pin(core)?;
+        eprintln!("xtask: bench: pinned to core {core}");
+    }
+    let start_load = load_average();
+    let date = command_output(Command::new("date").args(["-u", "+%Y-%m-%d %H:%M UTC"]))
+        .unwrap_or_else(|| "?".into());
+    let commit = command_output(Command::new("git").args(["rev-parse", "--short", "HEAD"]))
+        .unwrap_or_else(|| "?".into());
+    let dirty =
+        command_output(Command::new("git").args(["status", "--porcelain", "--untracked-files=no"]))
+            .is_some_and(|s| !s.is_empty());
+    crate::run(
+        cargo().args(["bench", "--bench", "belt", "--bench", "stiff", "--no-run"]),
+        "build the benchmarks (release profile, baseline x86-64)",
+    )?;
+    let mut belt = cargo();
+    belt.args(["bench", "--bench", "belt", "--", "all"]);
+    if o.quick {
+        belt.arg("--quick");
+    }
+    let belt_out = run_capture(&mut belt, "benches/belt.rs (all sections)")?;
+    let mut stiff = cargo();
+    stiff.args(["bench", "--bench", "stiff"]);
+    if o.quick {
+        stiff.env("BELT_BENCH_QUICK", "1");
+    }
+    let stiff_out = run_capture(&mut stiff, "benches/stiff.rs (all sections)")?;
+
+    let mut cmd = String::from("cargo xtask bench");
+    if o.quick {
+        cmd.push_str(" --quick");
+    }
+    if let Some(c) = o.core {
+        cmd.push_str(&format!(" --core {c}"));
+    }
+    let body = format!(
+        "## Latest run (generated by `cargo xtask bench`)\n\n\
+         - command: `{cmd}`{quick}\n\
+         - date: {date}, commit `{commit}`{dirty}\n\
+         - machine: {machine}\n\
+         - pinned to: {pinned}; load average at start {start_load}, at end {end_load}\n\
+         - times: CPU time of the benchmark thread (see above)\n\n\
+         ### benches/belt.rs\n\n{belt_out}\n### benches/stiff.rs\n\n```text\n{stiff_out}```\n",
+        quick = if o.quick {
+            " (**quick smoke run: short horizons, not the documented figures**)"
+        } else {
+            ""
+        },
+        dirty = if dirty { " + uncommitted changes" } else { "" },
+        machine = machine(),
+        pinned = o
+            .core
+            .map(|c| format!("core {c}"))
+            .unwrap_or_else(|| "not pinned".into()),
+        end_load = load_average(),
+    );
+    if o.docs {
+        let path = root().join("docs/benchmarks.md");
+        let doc = fs::read_to_string(&path).map_err(|e| format!("reading {path:?}: {e}"))?;
+        fs::write(&path, splice(&doc, &body)?).map_err(|e| format!("writing {path:?}: {e}"))?;
+        eprintln!("xtask: bench: docs/benchmarks.md updated between the markers");
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn splice_keeps_the_text_around_the_markers() {
+        let doc = format!("intro\n{BEGIN}\nold table\n{END}\noutro\n");
+        let new = splice(&doc, "new table\n").unwrap();
+        assert_eq!(new, format!("intro\n{BEGIN}\nnew table\n{END}\noutro\n"));
+        assert!(splice("no markers", "x").is_err());
+        assert!(splice(&format!("{END} {BEGIN}"), "x").is_err());
+    }
+
+    #[test]
+    fn options() {
+        let a = |v: &[&str]| parse(&v.iter().map(|s| s.to_string()).collect::<Vec<_>>());
+        let o = a(&["--", "--quick", "--core", "0"]).unwrap();
+        assert!(o.quick && o.core == Some(0) && o.docs);
+        assert!(a(&["--core"]).is_err());
+        assert!(a(&["--bogus"]).is_err());
+        assert!(!a(&["--no-docs"]).unwrap().docs);
+    }
+}
