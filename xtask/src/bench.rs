@@ -144,6 +144,27 @@ fn command_output(cmd: &mut Command) -> Option<String> {
         .then(|| String::from_utf8_lossy(&o.stdout).trim().to_string())
 }
 
+/// The belt suite's output as markdown: its section headings one level
+/// below the generated section's, blank lines around tables and after
+/// headings, other lines as paragraphs.
+fn as_markdown(out: &str) -> String {
+    let mut md = String::new();
+    let mut prev_table = false;
+    for line in out.lines() {
+        let table = line.starts_with('|');
+        if table != prev_table || line.starts_with("## ") {
+            md.push('\n');
+        }
+        match line.strip_prefix("## ") {
+            Some(h) => md.push_str(&format!("#### {h}\n\n")),
+            None if table || line.trim().is_empty() => md.push_str(&format!("{line}\n")),
+            None => md.push_str(&format!("{line}\n\n")),
+        }
+        prev_table = table;
+    }
+    md
+}
+
 /// Replaces the text between the markers in `doc` with `body`.
 fn splice(doc: &str, body: &str) -> Result<String> {
     let (Some(b), Some(e)) = (doc.find(BEGIN), doc.find(END)) else {
@@ -188,6 +209,7 @@ pub fn bench(args: &[String]) -> Result<()> {
     }
     let stiff_out = run_capture(&mut stiff, "benches/stiff.rs (all sections)")?;
 
+    let belt_out = as_markdown(&belt_out);
     let mut cmd = String::from("cargo xtask bench");
     if o.quick {
         cmd.push_str(" --quick");
@@ -236,6 +258,15 @@ mod tests {
         assert_eq!(new, format!("intro\n{BEGIN}\nnew table\n{END}\noutro\n"));
         assert!(splice("no markers", "x").is_err());
         assert!(splice(&format!("{END} {BEGIN}"), "x").is_err());
+    }
+
+    #[test]
+    fn markdown_of_the_suite_output() {
+        let md = as_markdown("## RHS\nnote\n| a |\n|---|\n| 1 |\nafter\n");
+        assert_eq!(
+            md,
+            "\n#### RHS\n\nnote\n\n\n| a |\n|---|\n| 1 |\n\nafter\n\n"
+        );
     }
 
     #[test]
