@@ -140,6 +140,22 @@ pub struct FrictionParams {
     pub zone_bodies: usize,
 }
 
+/// The paper's friction in both its cases: mu1 over Delta_max = 0.1 mm,
+/// dv = 1e-5 m/s for `kubas2014`; the `creep` law is the default.
+impl Default for FrictionParams {
+    fn default() -> Self {
+        Self {
+            law: FrictionLaw::Creep,
+            dv: 1e-5,
+            creep_max: 1e-4,
+            creep_damping_time: CREEP_DAMPING_TIME,
+            zone_factor: 1.0,
+            zone_start: 0,
+            zone_bodies: 0,
+        }
+    }
+}
+
 #[derive(Clone, Debug, PartialEq)]
 pub struct SolverParams {
     pub method: Method,
@@ -148,6 +164,20 @@ pub struct SolverParams {
     pub initial_step: f64,
     /// Step-count guard per `advance` call.
     pub max_steps: u64,
+}
+
+/// RKF45 at rtol 1e-4; the work guard is generous for library runs over
+/// long horizons (the FMU sets 1e5 per fmi2DoStep, docs/model.md).
+impl Default for SolverParams {
+    fn default() -> Self {
+        Self {
+            method: Method::Rkf45,
+            rel_tol: 1e-4,
+            abs_tol: 1e-6,
+            initial_step: 1e-7,
+            max_steps: 100_000_000,
+        }
+    }
 }
 
 /// Everything that defines a drive.
@@ -207,22 +237,8 @@ impl DriveParams {
                 damping: 300.0 / l,
                 p_max: 1e-3,
             },
-            friction: FrictionParams {
-                law: FrictionLaw::Creep,
-                dv: 1e-5,
-                creep_max: 1e-4,
-                creep_damping_time: CREEP_DAMPING_TIME,
-                zone_factor: 1.0,
-                zone_start: 0,
-                zone_bodies: 0,
-            },
-            solver: SolverParams {
-                method: Method::Rkf45,
-                rel_tol: 1e-4,
-                abs_tol: 1e-6,
-                initial_step: 1e-7,
-                max_steps: 100_000_000,
-            },
+            friction: FrictionParams::default(),
+            solver: SolverParams::default(),
             gravity: 9.81,
             probe_body: 107,
         }
@@ -274,22 +290,8 @@ impl DriveParams {
                 // switches the damping off (docs/model.md, "Contact")
                 p_max: 1e-5,
             },
-            friction: FrictionParams {
-                law: FrictionLaw::Creep,
-                dv: 1e-5,
-                creep_max: 1e-4,
-                creep_damping_time: CREEP_DAMPING_TIME,
-                zone_factor: 1.0,
-                zone_start: 0,
-                zone_bodies: 0,
-            },
-            solver: SolverParams {
-                method: Method::Rkf45,
-                rel_tol: 1e-4,
-                abs_tol: 1e-6,
-                initial_step: 1e-7,
-                max_steps: 100_000_000,
-            },
+            friction: FrictionParams::default(),
+            solver: SolverParams::default(),
             gravity: 9.81,
             probe_body: 45,
         }
