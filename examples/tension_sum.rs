@@ -158,10 +158,10 @@ fn main() {
     );
     for (label, s) in [("at rest (t = 0)", &rest), ("running (0.35-0.6 s)", &run)] {
         println!("\n{label}:");
-        for r in 0..4 {
+        for (r, name) in NAMES.iter().enumerate() {
             println!(
                 "  {:<16} mean SDE tension {:9.3} N over {:6.1} SDEs",
-                NAMES[r],
+                name,
                 mean(s, r),
                 s.count[r] / s.samples
             );
