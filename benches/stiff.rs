@@ -76,6 +76,14 @@ fn run(label: &str, p: &DriveParams, horizon: f64) {
     let mut cnt = 0.0;
     for k in 1..=steps {
         d.advance(k as f64 * 1e-3).expect("runs");
+        if k % (steps / 10).max(1) == 0 && k < steps {
+            eprintln!(
+                "  {label}: t = {:.3} s after {:.1} s wall, {} steps",
+                k as f64 * 1e-3,
+                t.elapsed().as_secs_f64(),
+                d.stats().steps
+            );
+        }
         if k > steps * 3 / 4 {
             let o = d.outputs();
             acc[0] += o.pulleys[1].omega;

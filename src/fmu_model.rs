@@ -135,6 +135,7 @@ impl BeltDrive {
             Var::ContactPMax => &mut p.contact.p_max,
             Var::FrictionDv => &mut p.friction.dv,
             Var::FrictionCreepMax => &mut p.friction.creep_max,
+            Var::FrictionCreepDampingTime => &mut p.friction.creep_damping_time,
             Var::FrictionZoneFactor => &mut p.friction.zone_factor,
             Var::SolverRelTol => &mut p.solver.rel_tol,
             Var::SolverAbsTol => &mut p.solver.abs_tol,
@@ -339,8 +340,8 @@ impl FmuModel for BeltDrive {
         self.invalidate();
     }
 
-    fn initialize(&mut self) -> Result<(), String> {
-        self.ensure_drive().map(|_| ())
+    fn initialize(&mut self) -> Result<Vec<String>, String> {
+        self.ensure_drive().map(|d| d.warnings().to_vec())
     }
 
     fn do_step(&mut self, t: f64, h: f64) -> Result<(), StepError> {

@@ -164,6 +164,19 @@ fn status_queries() {
     );
 }
 
+/// A valid but doubtful parameter (contact damping ramp far beyond the
+/// penetration) initializes with fmi2OK and a fmi2Warning log line naming
+/// the parameter, with logging off; the default drive logs no warning.
+#[test]
+fn parameter_warning_reaches_the_logger() {
+    let fmi = Fmi::load();
+    let quiet = Instance::initialized(&fmi, &[]);
+    assert!(!quiet.logged(1, ""), "{:?}", quiet.log.borrow());
+    let i = Instance::initialized(&fmi, &[("contact.pMax", 5e-3)]);
+    assert!(i.logged(1, "contact.pMax = 5e-3 m"), "{:?}", i.log.borrow());
+    assert!(i.logged(1, "set contact.pMax to about"));
+}
+
 #[test]
 fn two_instances_with_different_parameters() {
     let fmi = Fmi::load();

@@ -41,6 +41,14 @@ impl ContactLaw {
         (n.max(0.0), elastic)
     }
 
+    /// Damping ratio of a body of `mass` bouncing on the pulley at
+    /// penetration `p`: delta(p) b / (2 sqrt(k m)) with the tangent
+    /// stiffness k = 2 c1 p + c2 (eq. 9-11).
+    pub fn damping_ratio(&self, p: f64, mass: f64) -> f64 {
+        let k = 2.0 * self.c1 * p + self.c2;
+        smoothstep(p * self.inv_p_max) * self.b / (2.0 * (k * mass).sqrt())
+    }
+
     /// [`normal_force`](Self::normal_force) with its partial derivatives
     /// `(N, dN/dp, dN/dp_dot)` (zero where the clamp at 0 is active), for the
     /// Jacobian of the implicit integrator.

@@ -1,6 +1,7 @@
 //! A simulated belt drive: parameters, mounted layout, state, integrator.
 //! This is the whole interface the FMI adapter uses.
 
+use super::contact::smoothstep;
 use super::iteration_matrix::IterationMatrix;
 use super::jacobian::Jacobian;
 use super::layout::Layout;
@@ -315,6 +316,56 @@ pub struct Drive {
     /// Scratch for recorded evaluations (outputs only).
     dy: Vec<f64>,
     tensions: Vec<f64>,
+    warnings: Vec<String>,
+}
+
+/// Damping ratio of the radial contact mode at the equilibrium penetration
+/// below which a wrap counts as undamped: the belt then rattles on the
+/// pulley after a shock and loses traction (docs/model.md, "Contact"; the
+/// paper's 5PK drive has 0.26, its section-3 drive as printed 6e-5).
+const WEAK_CONTACT_DAMPING: f64 = 0.02;
+
+/// Parameter choices that are valid but make the drive behave badly, one
+/// message each, naming the parameter and the value to use instead.
+fn warnings(params: &DriveParams, layout: &Layout, sys: &BeltSystem) -> Vec<String> {
+    let mut out = Vec::new();
+    let c = &sys.contact;
+    if c.b <= 0.0 {
+        return out;
+    }
+    let p_max = params.contact.p_max;
+    let mut wraps: Vec<_> = layout.wraps.iter().collect();
+    wraps.sort_by_key(|w| w.pulley);
+    for w in wraps {
+        let p0 = w.penetration;
+        let share = smoothstep(p0 / p_max);
+        let zeta = c.damping_ratio(p0, sys.mass);
+        if zeta >= WEAK_CONTACT_DAMPING {
+            continue;
+        }
+        if share >= 0.5 {
+            out.push(format!(
+                "contact.damping = {:e} N s/m2 damps the belt's bounce on pulley[{}] with a \
+                 damping ratio of only {zeta:.1e}, so the belt can rattle on the pulley and lose \
+                 traction; a ratio of 0.1 needs contact.damping of about {:.1e} N s/m2",
+                params.contact.damping,
+                w.pulley + 1,
+                params.contact.damping * 0.1 / zeta
+            ));
+        } else {
+            out.push(format!(
+                "contact.pMax = {p_max:e} m is {:.0} times the equilibrium penetration {p0:.2e} m \
+                 on pulley[{}]: the contact damping acts there with {share:.1e} of contact.damping \
+                 (damping ratio {:.1e}), so the belt can rattle on the pulley and lose traction; \
+                 set contact.pMax to about 2 x the penetration ({:.1e} m)",
+                p_max / p0,
+                w.pulley + 1,
+                zeta,
+                2.0 * p0
+            ));
+        }
+    }
+    out
 }
 
 impl Drive {
@@ -341,6 +392,7 @@ impl Drive {
             y[o + 2] = b.phi;
         }
         let integrator = Integrator::new(&sys, params);
+        let warnings = warnings(params, &layout, &sys);
         let mut drive = Self {
             params: params.clone(),
             layout,
@@ -350,12 +402,19 @@ impl Drive {
             integrator,
             dy: vec![0.0; dim],
             tensions: vec![0.0; params.belt.n_bodies],
+            warnings,
         };
         drive.set_inputs(Inputs {
             t0,
             ..Inputs::default()
         });
         Ok(drive)
+    }
+
+    /// Valid parameter choices that make the drive behave badly, as
+    /// messages naming the parameter and a better value.
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
     }
 
     pub fn params(&self) -> &DriveParams {
@@ -495,5 +554,45 @@ impl Drive {
     /// Step size the integrator will try next.
     pub fn next_step_size(&self) -> f64 {
         self.integrator.step_size()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The paper's drives as built in warn about nothing; a radially
+    /// undamped contact is flagged with the parameter that causes it.
+    #[test]
+    fn warnings_name_the_cause() {
+        for p in [DriveParams::kubas_section4(), DriveParams::kubas_section3()] {
+            let d = Drive::mounted(&p, 0.0).expect("valid drive");
+            assert!(d.warnings().is_empty(), "{:?}", d.warnings());
+        }
+        // the 5PK drive's ramp at 30 x the penetration: pMax is named
+        let mut p = DriveParams::kubas_section4();
+        p.contact.p_max = 5e-3;
+        let w = Drive::mounted(&p, 0.0)
+            .expect("valid drive")
+            .warnings()
+            .to_vec();
+        assert_eq!(w.len(), 2, "{w:?}");
+        assert!(w[0].starts_with("contact.pMax = 5e-3 m") && w[0].contains("pulley[1]"));
+        // full ramp but a tiny damping coefficient: contact.damping is named
+        let mut p = DriveParams::kubas_section4();
+        p.contact.p_max = 1e-5;
+        p.contact.damping *= 1e-3;
+        let w = Drive::mounted(&p, 0.0)
+            .expect("valid drive")
+            .warnings()
+            .to_vec();
+        assert_eq!(w.len(), 2, "{w:?}");
+        assert!(w[1].starts_with("contact.damping = ") && w[1].contains("pulley[2]"));
+        // no damping at all is the user's explicit choice
+        p.contact.damping = 0.0;
+        assert!(Drive::mounted(&p, 0.0)
+            .expect("valid")
+            .warnings()
+            .is_empty());
     }
 }

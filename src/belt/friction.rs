@@ -2,6 +2,11 @@
 //! elastic-plastic creep law of its ref. [11], both driven by the creep
 //! displacement `z` of each body, integrated as a state (dz/dt = v_T).
 //!
+//! The creep law's elastic range is a Kelvin-Voigt element: the creep
+//! spring mu_s S(z / Delta_max) N plus a damper of relaxation time tau on
+//! it, so the tangential modes of the bodies on a wrap decay (the paper's
+//! law gets this damping from its viscous slope mu_s / dv; docs/model.md).
+//!
 //! Both laws use the paper's transition curve of eq. 10 (Fig. 4). "Half of
 //! this course" is read as the upper half of the odd S-curve that the
 //! smoothstep makes on [-1, 1]: S(u) = (3u - u^3)/2, S(0) = 0, S'(0) = 3/2,
@@ -36,6 +41,8 @@ pub struct Friction {
     /// Creep displacement of full static friction, Delta_max [m].
     pub creep_max: f64,
     pub inv_creep_max: f64,
+    /// Relaxation time of the creep spring over Delta_max [s/m] (creep law).
+    pub damping_per_creep: f64,
 }
 
 /// Creep displacement at which the creep law slides at mu_k (1.5 Delta_max:
@@ -44,12 +51,14 @@ pub struct Friction {
 const SLIDE_AT: f64 = 1.5;
 
 impl Friction {
-    pub fn new(law: FrictionLaw, dv: f64, creep_max: f64) -> Self {
+    /// `damping_time`: relaxation time tau of the creep law's spring [s].
+    pub fn new(law: FrictionLaw, dv: f64, creep_max: f64, damping_time: f64) -> Self {
         Self {
             law,
             inv_dv: 1.0 / dv,
             creep_max,
             inv_creep_max: 1.0 / creep_max,
+            damping_per_creep: damping_time / creep_max,
         }
     }
 
@@ -67,18 +76,22 @@ impl Friction {
     #[inline(always)]
     pub fn coefficient(&self, v_t: f64, z: f64, mu_s: f64, mu_k: f64) -> f64 {
         match self.law {
-            FrictionLaw::Creep => self.creep_coefficient(z, mu_s, mu_k),
+            FrictionLaw::Creep => self.creep_coefficient(v_t, z, mu_s, mu_k),
             FrictionLaw::Kubas2014 => self.kubas_coefficient(v_t, z, mu_s, mu_k),
         }
     }
 
-    /// [`Self::coefficient`] of the creep law.
+    /// [`Self::coefficient`] of the creep law. In the elastic range
+    /// |z| <= Delta_max the creep rate is v_t, and the damper adds
+    /// mu_s S'(u) tau du/dt, u = z / Delta_max; the sum stays within the
+    /// static bound mu_s (Coulomb).
     #[inline(always)]
-    pub fn creep_coefficient(&self, z: f64, mu_s: f64, mu_k: f64) -> f64 {
+    pub fn creep_coefficient(&self, v_t: f64, z: f64, mu_s: f64, mu_k: f64) -> f64 {
         let u = z * self.inv_creep_max;
         let a = u.abs();
         if a <= 1.0 {
-            mu_s * s_curve(u)
+            let damper = 1.5 * (1.0 - u * u) * self.damping_per_creep * v_t;
+            (mu_s * (s_curve(u) + damper)).clamp(-mu_s, mu_s)
         } else {
             let mu = mu_s + (mu_k - mu_s) * smoothstep((a - 1.0) * 2.0);
             mu.copysign(u)
@@ -110,12 +123,23 @@ impl Friction {
             FrictionLaw::Creep => {
                 let u = z * self.inv_creep_max;
                 let a = u.abs();
-                let dmu_dz = if a <= 1.0 {
-                    mu_s * s_curve_slope(u) * self.inv_creep_max
+                if a <= 1.0 {
+                    if mu.abs() >= mu_s {
+                        // clamped at the static bound
+                        return (mu, 0.0, 0.0);
+                    }
+                    let c = self.damping_per_creep;
+                    let dmu_dv = mu_s * s_curve_slope(u) * c;
+                    // d/du of S(u) + S'(u) c v_t, S''(u) = -3 u
+                    let dmu_dz = mu_s * (s_curve_slope(u) - 3.0 * u * c * v_t) * self.inv_creep_max;
+                    (mu, dmu_dv, dmu_dz)
                 } else {
-                    (mu_k - mu_s) * smoothstep_slope((a - 1.0) * 2.0) * 2.0 * self.inv_creep_max
-                };
-                (mu, 0.0, dmu_dz)
+                    let dmu_dz = (mu_k - mu_s)
+                        * smoothstep_slope((a - 1.0) * 2.0)
+                        * 2.0
+                        * self.inv_creep_max;
+                    (mu, 0.0, dmu_dz)
+                }
             }
             FrictionLaw::Kubas2014 => {
                 let w = v_t.abs() * self.inv_dv;
@@ -166,7 +190,7 @@ mod tests {
 
     #[test]
     fn creep_law_elastic_then_kinetic() {
-        let f = Friction::new(FrictionLaw::Creep, 1e-5, 1e-4);
+        let f = Friction::new(FrictionLaw::Creep, 1e-5, 1e-4, 0.0);
         let (ms, mk) = (1.05, 1.0);
         assert_eq!(f.coefficient(0.3, 0.0, ms, mk), 0.0);
         assert!((f.coefficient(0.3, 1e-4, ms, mk) - ms).abs() < 1e-12);
@@ -188,7 +212,7 @@ mod tests {
     fn coefficient_derivatives_match_differences() {
         let (ms, mk) = (1.05, 0.9);
         for law in [FrictionLaw::Creep, FrictionLaw::Kubas2014] {
-            let f = Friction::new(law, 1e-3, 1e-4);
+            let f = Friction::new(law, 1e-3, 1e-4, 2e-4);
             for &v in &[-2e-3, -1.2e-3, -4e-4, 3e-4, 1.3e-3, 0.05] {
                 for &z in &[-1.3e-4, -5e-5, 2e-5, 9e-5, 1.2e-4, 1.45e-4] {
                     let (mu, dv, dz) = f.coefficient_jac(v, z, ms, mk);
@@ -213,7 +237,7 @@ mod tests {
 
     #[test]
     fn kubas_law_regularised_coulomb() {
-        let f = Friction::new(FrictionLaw::Kubas2014, 1e-5, 1e-4);
+        let f = Friction::new(FrictionLaw::Kubas2014, 1e-5, 1e-4, 1e-4);
         let (ms, mk) = (1.05, 1.0);
         assert!((f.coefficient(1e-5, 0.0, ms, mk) - ms).abs() < 1e-12);
         assert!((f.coefficient(-2e-5, 0.0, ms, mk) + mk).abs() < 1e-12);

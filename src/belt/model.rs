@@ -347,7 +347,7 @@ impl BeltSystem {
                 b: c.damping * l,
                 inv_p_max: 1.0 / c.p_max,
             },
-            friction: Friction::new(f.law, f.dv, f.creep_max),
+            friction: Friction::new(f.law, f.dv, f.creep_max, f.creep_damping_time),
             zone_factor,
             eps2: (1e-6 * l) * (1e-6 * l),
             relax_damping: 0.0,
@@ -733,7 +733,7 @@ impl BeltSystem {
         }
         let fr = &self.friction;
         if creep {
-            contact_loop!(|_v, z, ms, mk| fr.creep_coefficient(z, ms, mk));
+            contact_loop!(|v, z, ms, mk| fr.creep_coefficient(v, z, ms, mk));
         } else {
             contact_loop!(|v, z, ms, mk| fr.kubas_coefficient(v, z, ms, mk));
         }

@@ -21,7 +21,7 @@
 
 use std::ffi::CString;
 
-use super::logging::{self, Logger, LOG_ALL, LOG_EVENTS, LOG_STATUS_DISCARD};
+use super::logging::{self, Logger, LOG_ALL, LOG_EVENTS, LOG_STATUS_DISCARD, LOG_STATUS_WARNING};
 use super::model::{FmuModel, StepError};
 use super::state::Registry;
 use super::types::{Fmi2Status, Fmi2String};
@@ -221,7 +221,12 @@ impl<M: FmuModel> Instance<M> {
 
     pub fn exit_initialization_mode(&mut self) -> Result<Fmi2Status, String> {
         self.check_state(allowed::EXIT_INITIALIZATION_MODE)?;
-        self.model.initialize()?;
+        // Warnings go to the logger only: some importers stop on a
+        // function status fmi2Warning, and nothing here is an error.
+        for w in self.model.initialize()? {
+            self.logger
+                .always(Fmi2Status::Warning, LOG_STATUS_WARNING, &w);
+        }
         self.plumbing.mode = Mode::StepComplete;
         let t = self.plumbing.time;
         self.logger.log(

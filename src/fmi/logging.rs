@@ -106,6 +106,19 @@ impl Logger {
     }
 
     /// Send `message` to the importer if the policy above allows it.
+    /// Emits `message` whatever the enabled categories: for the few
+    /// messages a user must see even with logging off (a parameter warning
+    /// at initialization).
+    pub fn always(&self, status: Fmi2Status, category: &str, message: &str) {
+        emit(
+            &self.callbacks,
+            &self.instance_name,
+            status,
+            category,
+            message,
+        );
+    }
+
     pub fn log(&self, status: Fmi2Status, category: &str, message: &str) {
         if status >= Fmi2Status::Error || self.is_enabled(category) {
             emit(

@@ -46,8 +46,10 @@ pub trait FmuModel: Clone + Send + Sized + 'static {
     fn setup_experiment(&mut self, tolerance: Option<f64>, start_time: f64);
 
     /// fmi2ExitInitializationMode: validate parameters and build the model.
-    /// `Err` names the parameter and the allowed range.
-    fn initialize(&mut self) -> Result<(), String>;
+    /// `Err` names the parameter and the allowed range; `Ok` carries
+    /// warnings about valid but doubtful parameter choices, which the
+    /// plumbing logs with status fmi2Warning (the call still returns fmi2OK).
+    fn initialize(&mut self) -> Result<Vec<String>, String>;
 
     /// fmi2DoStep: integrate from `t` to exactly `t + h`. On `Err` the model
     /// must be left at its state at `t`.

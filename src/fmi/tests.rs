@@ -88,12 +88,16 @@ impl FmuModel for Mock {
     fn setup_experiment(&mut self, _tolerance: Option<f64>, start_time: f64) {
         self.t = start_time;
     }
-    fn initialize(&mut self) -> Result<(), String> {
+    fn initialize(&mut self) -> Result<Vec<String>, String> {
         let n = self.ints[&vr("nPulleys")];
         if !(2..=6).contains(&n) {
             return Err(format!("nPulleys = {n} is outside 2..6"));
         }
-        Ok(())
+        Ok(if self.reals[&vr("gravity")] == 0.0 {
+            vec!["gravity = 0: weightless".into()]
+        } else {
+            Vec::new()
+        })
     }
     fn do_step(&mut self, t: f64, h: f64) -> Result<(), StepError> {
         assert_eq!(t, self.t, "plumbing passes the model's own time");
@@ -455,6 +459,16 @@ fn variable_rules() {
     assert_eq!(f.set_i("nPulleys", 9), OK);
     assert_eq!(f.tr(Transition::ExitInitializationMode), ERR);
     f.assert_error_logged("nPulleys = 9 is outside 2..6");
+    // a model's warning is logged with status fmi2Warning even with
+    // logging off, and initialization still succeeds
+    let f = Fmu::new();
+    assert_eq!(f.tr(Transition::EnterInitializationMode), OK);
+    assert_eq!(f.set_r("gravity", 0.0), OK);
+    assert_eq!(f.tr(Transition::ExitInitializationMode), OK);
+    let last = f.lines().pop().expect("a warning");
+    assert_eq!(last.status, 1, "{last:?}");
+    assert_eq!(last.category, "logStatusWarning");
+    assert_eq!(last.message, "gravity = 0: weightless");
     let f = Fmu::new();
     let mut b = 7;
     assert_eq!(
