@@ -232,7 +232,9 @@ impl DriveParams {
     /// [12]): 60 bodies, two 81.25 mm pulleys (I = 0.02 kg m^2) 0.253 m
     /// apart, mu_s = mu_k = 0.8; c_tra = 1e4 read as EA, the other per-SDE
     /// and per-contact figures converted to the per-length parameters with
-    /// the body length l (docs/model.md, "Parameters").
+    /// the body length l (docs/model.md, "Parameters"). p_max = 1e-5 m
+    /// instead of the paper's 1 mm, which is 160 times the 6 um penetration
+    /// and would switch the contact damping off (docs/model.md, "Contact").
     ///
     /// Figs. 8 and 9 are not in the text, so the drive course and the load
     /// are readings: pulley 1 is speed-driven, ramped to -10 rad/s over
