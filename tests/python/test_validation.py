@@ -105,3 +105,19 @@ def test_time_limit_keeps_a_partial_run(fmu_path, tmp_path):
     assert "error" not in r
     reached = validate.short_of(r, 0.5)
     assert reached is not None and 0 < reached < 0.5, reached
+
+
+def test_section3_parameters_match_the_shipped_set():
+    """validate.py's section-3 drive is the shipped parameter set
+    (parameters/kubas2014-section3.ssv, which tests/parameter_sets.rs ties
+    to DriveParams::kubas_section3()) wherever both set a variable."""
+    from fmpy.ssp.ssd import read_ssv
+
+    ssv = {p.name: p for p in read_ssv(str(ROOT / "parameters" / "kubas2014-section3.ssv")).parameters}
+    ours = validate.s3_params(60)
+    common = sorted(set(ours) & set(ssv))
+    assert "contact.pMax" in common and len(common) > 15, common
+    for name in common:
+        p = ssv[name]
+        value = {"Real": float, "Integer": int}.get(p.type, lambda v: str(v).lower() == "true")(p.value)
+        assert math.isclose(float(ours[name]), float(value), rel_tol=1e-9), (name, ours[name], p.value)
