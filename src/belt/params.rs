@@ -245,12 +245,19 @@ impl DriveParams {
     }
 
     /// The paper's section-3 verification drive (after Cepon & Boltezar
-    /// [12]): 60 bodies, two 81.25 mm pulleys 0.253 m apart, mu = 0.8, the
-    /// drive pulley speed-driven. The drive speed profile and the load torque
-    /// are set by the caller (Figs. 8 and 9 are not in the text); the
-    /// defaults here ramp the drive to -10 rad/s over 0.1 s (clockwise, as
-    /// in section 4) against a 2 N m load damping-free resistance torque
-    /// input of zero. Preload 150 N (not given in the text; see docs/model.md).
+    /// [12]): 60 bodies, two 81.25 mm pulleys (I = 0.02 kg m^2) 0.253 m
+    /// apart, mu_s = mu_k = 0.8; c_tra = 1e4 read as EA, the other per-SDE
+    /// and per-contact figures converted to the per-length parameters with
+    /// the body length l (docs/model.md, "Parameters"). p_max = 1e-5 m
+    /// instead of the paper's 1 mm, which is 160 times the 6 um penetration
+    /// and would switch the contact damping off (docs/model.md, "Contact").
+    ///
+    /// Figs. 8 and 9 are not in the text, so the drive course and the load
+    /// are readings: pulley 1 is speed-driven, ramped to -10 rad/s over
+    /// 0.1 s (clockwise, as in section 4); pulley 2 is torque-driven with no
+    /// load damping and a zero resistance torque, which the caller steps
+    /// through the `pulley[2].torque` input (docs/validation.md: 10 N m at
+    /// 0.3 s). Preload 150 N (not given in the text; see docs/validation.md).
     pub fn kubas_section3() -> Self {
         let l = PAPER3_BODY_LENGTH;
         let pulley = |x: f64| PulleyParams {
