@@ -125,7 +125,7 @@ fn main() {
     let want = |s: &str| picked.is_empty() || picked.iter().any(|a| a == s);
     if want("kernels") {
         println!("# stiff-method kernels (5PK drive at t = 0.05 s)");
-        for n in [60usize, 150, 600, 1200] {
+        for n in [90usize, 150, 600, 1200] {
             kernels(n);
         }
     }
@@ -148,7 +148,7 @@ fn main() {
     }
     if want("scaling") {
         println!("# scaling: 5PK drive, ROS34PW2 rtol 1e-4, 0..0.5 s");
-        for n in [60usize, 150, 300, 600, 1200] {
+        for n in [90usize, 150, 300, 600, 1200] {
             let mut p = DriveParams::kubas_section4();
             p.belt.n_bodies = n;
             p.solver.method = Method::Rosenbrock;
