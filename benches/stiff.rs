@@ -45,14 +45,9 @@ fn time_per_call(reps: usize, mut f: impl FnMut()) -> f64 {
     )
 }
 
-/// Kernel costs at `n` bodies: the 5PK drive, or below 100 bodies (too few
-/// for its 27 mm pulleys) the section-3 drive, as `cargo bench --bench belt`.
+/// Kernel costs at `n` bodies (>= 89: the 5PK drive's 27 mm pulleys).
 fn kernels(n: usize) {
-    let mut p = if n < 100 {
-        DriveParams::kubas_section3()
-    } else {
-        DriveParams::kubas_section4()
-    };
+    let mut p = DriveParams::kubas_section4();
     p.belt.n_bodies = n;
     p.probe_body = 0;
     p.solver.method = Method::Rosenbrock;
@@ -148,7 +143,7 @@ fn main() {
     let want = |s: &str| picked.is_empty() || picked.iter().any(|a| a == s);
     if want("kernels") {
         println!("# stiff-method kernels (5PK drive at t = 0.05 s)");
-        for n in [60usize, 150, 600, 1200] {
+        for n in [90usize, 150, 600, 1200] {
             kernels(n);
         }
     }
@@ -170,23 +165,13 @@ fn main() {
         run("section 3", &p, horizon);
     }
     if want("scaling") {
-        println!(
-            "# scaling: 5PK drive (below 100 bodies, too few for its 27 mm pulleys: the section-3 drive), ROS34PW2 rtol 1e-4, 0..0.5 s"
-        );
-        for n in [60usize, 150, 300, 600, 1200] {
-            let (mut p, drive) = if n < 100 {
-                (DriveParams::kubas_section3(), "section 3")
-            } else {
-                (DriveParams::kubas_section4(), "5PK")
-            };
+        println!("# scaling: 5PK drive, ROS34PW2 rtol 1e-4, 0..0.5 s");
+        for n in [90usize, 150, 300, 600, 1200] {
+            let mut p = DriveParams::kubas_section4();
             p.belt.n_bodies = n;
             p.probe_body = 0;
             p.solver.method = Method::Rosenbrock;
-            run(
-                &format!("n = {n} ({drive})"),
-                &p,
-                if quick { 0.05 } else { 0.5 },
-            );
+            run(&format!("n = {n}"), &p, if quick { 0.05 } else { 0.5 });
         }
     }
     if want("kubas") {

@@ -7,8 +7,9 @@ use super::jacobian::Jacobian;
 use super::layout::Layout;
 use super::model::{BeltSystem, Inputs, NoRecord, Recorder, BODY_DOF};
 use super::params::{DriveParams, Method, ParamError, MAX_PULLEYS};
-use super::rkf45::{OdeSystem, Rkf45, Stats, StepFailure};
+use super::rkf45::Rkf45;
 use super::rosenbrock::{Rosenbrock, StiffSystem};
+use super::stepping::{OdeSystem, Stats, StepControl, StepFailure};
 
 impl OdeSystem for BeltSystem {
     fn dim(&self) -> usize {
@@ -113,19 +114,28 @@ impl Integrator {
         }
     }
 
-    pub fn stats(&self) -> Stats {
+    /// Step size, counters and work guard.
+    pub fn control(&self) -> &StepControl {
         match self {
-            Self::Rkf45(i) => i.stats,
-            Self::Rosenbrock(i) => i.stats,
+            Self::Rkf45(i) => &i.control,
+            Self::Rosenbrock(i) => &i.control,
         }
+    }
+
+    fn control_mut(&mut self) -> &mut StepControl {
+        match self {
+            Self::Rkf45(i) => &mut i.control,
+            Self::Rosenbrock(i) => &mut i.control,
+        }
+    }
+
+    pub fn stats(&self) -> Stats {
+        self.control().stats
     }
 
     /// Step size proposed for the next step.
     pub fn step_size(&self) -> f64 {
-        match self {
-            Self::Rkf45(i) => i.h,
-            Self::Rosenbrock(i) => i.h,
-        }
+        self.control().h
     }
 
     /// Integrator data beyond step size and counters that a saved state
@@ -140,17 +150,12 @@ impl Integrator {
 
     /// Restores step size, counters and what [`save`](Self::save) wrote.
     fn restore(&mut self, sys: &BeltSystem, h: f64, stats: Stats, extra: &[f64]) -> bool {
+        let c = self.control_mut();
+        c.h = h;
+        c.stats = stats;
         match self {
-            Self::Rkf45(i) => {
-                i.h = h;
-                i.stats = stats;
-                extra.is_empty()
-            }
-            Self::Rosenbrock(i) => {
-                i.h = h;
-                i.stats = stats;
-                i.load(sys, extra)
-            }
+            Self::Rkf45(_) => extra.is_empty(),
+            Self::Rosenbrock(i) => i.load(sys, extra),
         }
     }
 }

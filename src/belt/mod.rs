@@ -6,6 +6,7 @@
 //! * [`contact`]: penalty contact, eq. 4-11;
 //! * [`friction`]: the two friction laws, eq. 12-19 and ref. [11];
 //! * [`model`]: equations of motion, eq. 20-24 (the right-hand side);
+//! * [`stepping`]: adaptive step-size control shared by the integrators;
 //! * [`rkf45`]: the adaptive Runge-Kutta-Fehlberg 4(5) integrator;
 //! * [`jacobian`], [`iteration_matrix`], [`rosenbrock`]: the stiff
 //!   integrator (Rosenbrock-W ROS34PW2, analytic Jacobian, O(n) stage solve);
@@ -22,6 +23,7 @@ pub mod model;
 pub mod params;
 pub mod rkf45;
 pub mod rosenbrock;
+pub mod stepping;
 pub mod trig;
 
 pub use drive::{Drive, Outputs};

@@ -7,49 +7,9 @@
 //! integration lands exactly on the target time. All work vectors are
 //! allocated once.
 
-/// An ODE y' = f(t, y) with a discrete update after each accepted step.
-pub trait OdeSystem {
-    fn dim(&self) -> usize;
-    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]);
-    /// Called with the new state after every accepted step.
-    fn after_step(&self, _y: &mut [f64]) {}
-}
+use super::stepping::{EmbeddedMethod, StepControl};
+pub use super::stepping::{OdeSystem, Stats, StepFailure};
 
-/// Counters, cumulative over the life of the integrator.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Stats {
-    pub steps: u64,
-    pub rejected: u64,
-    pub rhs_evals: u64,
-    pub last_step: f64,
-}
-
-#[derive(Clone, Debug, PartialEq)]
-pub enum StepFailure {
-    /// More than `max_steps` steps were needed.
-    TooManySteps { t: f64, steps: u64 },
-    /// The step size fell below the resolution of t.
-    StepTooSmall { t: f64, h: f64 },
-    /// The right-hand side produced NaN or infinity at every trial step.
-    NonFinite { t: f64 },
-}
-
-impl std::fmt::Display for StepFailure {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Self::TooManySteps { t, steps } => write!(
-                f,
-                "integrator step-count guard hit at t = {t} s after {steps} steps (solver.maxSteps)"
-            ),
-            Self::StepTooSmall { t, h } => {
-                write!(f, "integrator step size fell to {h:e} s at t = {t} s")
-            }
-            Self::NonFinite { t } => write!(f, "the state became non-finite at t = {t} s"),
-        }
-    }
-}
-
-// Fehlberg's coefficients.
 const C: [f64; 6] = [0.0, 0.25, 0.375, 12.0 / 13.0, 1.0, 0.5];
 const A2: [f64; 1] = [0.25];
 const A3: [f64; 2] = [3.0 / 32.0, 9.0 / 32.0];
@@ -85,13 +45,10 @@ const E: [f64; 6] = [
 pub struct Rkf45 {
     pub rel_tol: f64,
     pub abs_tol: f64,
-    pub max_steps: u64,
-    /// Step size proposed for the next step.
-    pub h: f64,
-    pub stats: Stats,
+    /// Step size, counters and work guard.
+    pub control: StepControl,
     k: [Vec<f64>; 6],
     tmp: Vec<f64>,
-    backup: Vec<f64>,
 }
 
 impl Rkf45 {
@@ -99,12 +56,9 @@ impl Rkf45 {
         Self {
             rel_tol,
             abs_tol,
-            max_steps,
-            h: h0,
-            stats: Stats::default(),
+            control: StepControl::new(dim, h0, max_steps),
             k: std::array::from_fn(|_| vec![0.0; dim]),
             tmp: vec![0.0; dim],
-            backup: vec![0.0; dim],
         }
     }
 
@@ -158,7 +112,7 @@ impl Rkf45 {
                     + A6[4] * k5[i]);
         }
         sys.rhs(t + C[5] * h, tmp, k6);
-        self.stats.rhs_evals += 6;
+        self.control.stats.rhs_evals += 6;
         let mut sum = 0.0;
         for i in 0..y.len() {
             let y5 = y[i]
@@ -186,78 +140,30 @@ impl Rkf45 {
         y: &mut [f64],
         t_end: f64,
     ) -> Result<(), StepFailure> {
-        let t_start = *t;
-        self.backup.copy_from_slice(y);
-        let stats_start = self.stats;
-        let h_start = self.h;
-        let result = self.advance_inner(sys, t, y, t_end);
-        if result.is_err() {
-            y.copy_from_slice(&self.backup);
-            *t = t_start;
-            self.h = h_start;
-            // Keep the counters of the failed attempt: the work was done.
-            self.stats.last_step = stats_start.last_step;
-        }
-        result
+        super::stepping::advance(self, sys, t, y, t_end)
+    }
+}
+
+impl<S: OdeSystem> EmbeddedMethod<S> for Rkf45 {
+    fn control(&mut self) -> &mut StepControl {
+        &mut self.control
     }
 
-    fn advance_inner<S: OdeSystem>(
-        &mut self,
-        sys: &S,
-        t: &mut f64,
-        y: &mut [f64],
-        t_end: f64,
-    ) -> Result<(), StepFailure> {
-        let mut steps = 0u64;
-        let mut non_finite = 0u32;
-        while *t < t_end {
-            if steps >= self.max_steps {
-                return Err(StepFailure::TooManySteps { t: *t, steps });
-            }
-            let remaining = t_end - *t;
-            // Clip the last step to land on t_end (also when only slightly shorter).
-            let last = self.h >= remaining * (1.0 - 1e-12);
-            let h = if last { remaining } else { self.h };
-            let h_min = 16.0 * f64::EPSILON * t.abs().max(t_end.abs()).max(1e-3);
-            if h < h_min && !last {
-                return Err(StepFailure::StepTooSmall { t: *t, h });
-            }
-            let err = self.trial(sys, *t, y, h);
-            if !err.is_finite() {
-                non_finite += 1;
-                self.stats.rejected += 1;
-                if non_finite > 40 {
-                    return Err(StepFailure::NonFinite { t: *t });
-                }
-                self.h = h * 0.25;
-                continue;
-            }
-            non_finite = 0;
-            // Standard controller: safety 0.9, growth limited to [0.2, 5].
-            let factor = if err == 0.0 {
-                5.0
-            } else {
-                (0.9 * err.powf(-0.2)).clamp(0.2, 5.0)
-            };
-            if err <= 1.0 {
-                y.copy_from_slice(&self.tmp);
-                sys.after_step(y);
-                *t = if last { t_end } else { *t + h };
-                steps += 1;
-                self.stats.steps += 1;
-                self.stats.last_step = h;
-                // A clipped last step does not shrink the carried step size.
-                self.h = if last {
-                    self.h.max(h * factor)
-                } else {
-                    h * factor
-                };
-            } else {
-                self.stats.rejected += 1;
-                self.h = h * factor;
-            }
+    fn trial(&mut self, sys: &S, t: f64, y: &[f64], h: f64) -> f64 {
+        Rkf45::trial(self, sys, t, y, h)
+    }
+
+    fn take_step(&mut self, y: &mut [f64]) {
+        y.copy_from_slice(&self.tmp);
+    }
+
+    /// Error of order 5 (h^5): safety 0.9, growth limited to [0.2, 5].
+    fn step_factor(&self, err: f64) -> f64 {
+        if err == 0.0 {
+            5.0
+        } else {
+            (0.9 * err.powf(-0.2)).clamp(0.2, 5.0)
         }
-        Ok(())
     }
 }
 
@@ -304,9 +210,9 @@ mod tests {
             assert_eq!(t, t_end);
         }
         assert!(
-            rk.h > 0.01,
+            rk.control.h > 0.01,
             "step size must survive the clipped steps: {}",
-            rk.h
+            rk.control.h
         );
     }
 

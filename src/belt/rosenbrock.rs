@@ -16,7 +16,7 @@
 //! m = b Gamma^-1; the coefficients are transformed once, at compile time of
 //! the tableau below.
 
-use super::rkf45::{OdeSystem, Stats, StepFailure};
+use super::stepping::{EmbeddedMethod, OdeSystem, StepControl, StepFailure};
 
 /// An ODE whose Jacobian (or an approximation of it) can be formed and whose
 /// iteration matrix `I - c J` can be factored and solved.
@@ -160,12 +160,10 @@ const KEEP_STEP_BELOW: f64 = 1.25;
 pub struct Rosenbrock<Sys: StiffSystem> {
     pub rel_tol: f64,
     pub abs_tol: f64,
-    pub max_steps: u64,
+    /// Step size, counters and work guard.
+    pub control: StepControl,
     /// Accepted steps a Jacobian is used for (1 = a fresh one every step).
     pub jacobian_max_age: u32,
-    /// Step size proposed for the next step.
-    pub h: f64,
-    pub stats: Stats,
     /// Jacobian evaluations and factorizations (cumulative).
     pub jacobians: u64,
     pub factorizations: u64,
@@ -178,7 +176,6 @@ pub struct Rosenbrock<Sys: StiffSystem> {
     u: [Vec<f64>; S],
     f: Vec<f64>,
     stage: Vec<f64>,
-    backup: Vec<f64>,
     mask: Vec<f64>,
     controlled: usize,
 }
@@ -194,10 +191,8 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
             controlled,
             rel_tol,
             abs_tol,
-            max_steps,
+            control: StepControl::new(dim, h0, max_steps),
             jacobian_max_age: JACOBIAN_MAX_AGE,
-            h: h0,
-            stats: Stats::default(),
             jacobians: 0,
             factorizations: 0,
             jac: sys.new_jacobian(),
@@ -207,7 +202,6 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
             u: std::array::from_fn(|_| vec![0.0; dim]),
             f: vec![0.0; dim],
             stage: vec![0.0; dim],
-            backup: vec![0.0; dim],
         }
     }
 
@@ -300,7 +294,7 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
                 }
             }
             sys.rhs(t + T.alpha[i] * h, stage, &mut self.f);
-            self.stats.rhs_evals += 1;
+            self.control.stats.rhs_evals += 1;
             // right-hand side of (I - c J) U_i = c (f + sum c_ij/h U_j)
             let (done, rest) = self.u.split_at_mut(i);
             let ui = &mut rest[0];
@@ -338,86 +332,50 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
         y: &mut [f64],
         t_end: f64,
     ) -> Result<(), StepFailure> {
-        let t_start = *t;
-        self.backup.copy_from_slice(y);
-        let stats_start = self.stats;
-        let h_start = self.h;
-        let result = self.advance_inner(sys, t, y, t_end);
-        if result.is_err() {
-            y.copy_from_slice(&self.backup);
-            *t = t_start;
-            self.h = h_start;
-            self.stats.last_step = stats_start.last_step;
-            self.invalidate();
-        }
-        result
+        super::stepping::advance(self, sys, t, y, t_end)
+    }
+}
+
+impl<Sys: StiffSystem> EmbeddedMethod<Sys> for Rosenbrock<Sys> {
+    fn control(&mut self) -> &mut StepControl {
+        &mut self.control
     }
 
-    fn advance_inner(
-        &mut self,
-        sys: &Sys,
-        t: &mut f64,
-        y: &mut [f64],
-        t_end: f64,
-    ) -> Result<(), StepFailure> {
-        let mut steps = 0u64;
-        let mut non_finite = 0u32;
-        while *t < t_end {
-            if steps >= self.max_steps {
-                return Err(StepFailure::TooManySteps { t: *t, steps });
-            }
-            let remaining = t_end - *t;
-            let last = self.h >= remaining * (1.0 - 1e-12);
-            let h = if last { remaining } else { self.h };
-            let h_min = 16.0 * f64::EPSILON * t.abs().max(t_end.abs()).max(1e-3);
-            if h < h_min && !last {
-                return Err(StepFailure::StepTooSmall { t: *t, h });
-            }
-            let err = self.trial(sys, *t, y, h);
-            if !err.is_finite() {
-                non_finite += 1;
-                self.stats.rejected += 1;
-                if non_finite > 40 {
-                    return Err(StepFailure::NonFinite { t: *t });
-                }
-                self.jac_age = None;
-                self.h = h * 0.25;
-                continue;
-            }
-            non_finite = 0;
-            // Embedded order 2: the error scales as h^3.
-            let factor = if err == 0.0 {
-                4.0
-            } else {
-                (0.9 * err.powf(-1.0 / 3.0)).clamp(0.2, 4.0)
-            };
-            if err <= 1.0 {
-                y.copy_from_slice(&self.stage);
-                sys.after_step(y);
-                *t = if last { t_end } else { *t + h };
-                steps += 1;
-                self.stats.steps += 1;
-                self.stats.last_step = h;
-                // Small increases are skipped to keep the factorization.
-                let factor = if (1.0..KEEP_STEP_BELOW).contains(&factor) {
-                    1.0
-                } else {
-                    factor
-                };
-                self.h = if last {
-                    self.h.max(h * factor)
-                } else {
-                    h * factor
-                };
-                let age = self.jac_age.map_or(0, |a| a + 1);
-                self.jac_age = (age < self.jacobian_max_age).then_some(age);
-            } else {
-                self.stats.rejected += 1;
-                self.h = h * factor;
-                self.jac_age = None;
-            }
+    fn trial(&mut self, sys: &Sys, t: f64, y: &[f64], h: f64) -> f64 {
+        Rosenbrock::trial(self, sys, t, y, h)
+    }
+
+    fn take_step(&mut self, y: &mut [f64]) {
+        y.copy_from_slice(&self.stage);
+    }
+
+    /// Embedded order 2: the error scales as h^3.
+    fn step_factor(&self, err: f64) -> f64 {
+        if err == 0.0 {
+            4.0
+        } else {
+            (0.9 * err.powf(-1.0 / 3.0)).clamp(0.2, 4.0)
         }
-        Ok(())
+    }
+
+    /// Small increases are skipped to keep the factorization; the Jacobian
+    /// ages by one step.
+    fn accepted(&mut self, factor: f64) -> f64 {
+        let age = self.jac_age.map_or(0, |a| a + 1);
+        self.jac_age = (age < self.jacobian_max_age).then_some(age);
+        if (1.0..KEEP_STEP_BELOW).contains(&factor) {
+            1.0
+        } else {
+            factor
+        }
+    }
+
+    fn rejected(&mut self) {
+        self.jac_age = None;
+    }
+
+    fn failed(&mut self) {
+        self.invalidate();
     }
 }
 
@@ -510,7 +468,7 @@ mod tests {
             let mut t = 0.0;
             let steps = (1.0 / h).round() as usize;
             for k in 1..=steps {
-                ros.h = h;
+                ros.control.h = h;
                 ros.advance(&sys, &mut t, &mut y, k as f64 * h).unwrap();
             }
             y
@@ -551,7 +509,7 @@ mod tests {
         assert_eq!(t, 2.0);
         assert!((y[0] - 2f64.cos()).abs() < 1e-6, "{}", y[0]);
         // An explicit method would need ~1e6 steps (stability h < 2.8e-6).
-        assert!(ros.stats.steps < 2000, "{:?}", ros.stats);
+        assert!(ros.control.stats.steps < 2000, "{:?}", ros.control.stats);
     }
 
     #[test]

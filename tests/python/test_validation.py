@@ -76,3 +76,48 @@ def test_mesh_refusal_and_sane_steady_values(report):
     for row in an["tol"]["rows"] + an["dv"]["rows"]:
         assert "error" not in row, row
         assert math.isfinite(row["slip"]) and row["steps"] > 0
+
+
+def test_dv_integrator_crosscheck(report):
+    """kubas2014: the stiff method over the check window gives RKF45's
+    speeds and span forces (docs/model.md: body velocities stay in its
+    error norm for this law)."""
+    _, an = report
+    check = {r["method"]: r for r in an["dv"]["rows"] if r["window"] == [0.04, 0.06]}
+    assert set(check) == {1, 2}, an["dv"]["rows"]
+    rk, ros = check[1], check[2]
+    for k in ("omega1", "omega2"):
+        assert abs(ros[k] / rk[k] - 1) < 2e-3, (k, rk[k], ros[k])
+    for k in ("tight", "slack"):
+        assert abs(ros[k] / rk[k] - 1) < 1e-2, (k, rk[k], ros[k])
+    assert ros["steps"] < rk["steps"]
+
+
+def test_time_limit_keeps_a_partial_run(fmu_path, tmp_path):
+    """A run that reaches --time-limit is stopped and reported with the time
+    it reached, not thrown away."""
+    validate.TIME_LIMIT = 0.0
+    try:
+        c = validate.case("limited", validate.s4_params(100), validate.HEADLINE, 0.5, 1e-3)
+    finally:
+        validate.TIME_LIMIT = None
+    r = validate._simulate(c)
+    assert "error" not in r
+    reached = validate.short_of(r, 0.5)
+    assert reached is not None and 0 < reached < 0.5, reached
+
+
+def test_section3_parameters_match_the_shipped_set():
+    """validate.py's section-3 drive is the shipped parameter set
+    (parameters/kubas2014-section3.ssv, which tests/parameter_sets.rs ties
+    to DriveParams::kubas_section3()) wherever both set a variable."""
+    from fmpy.ssp.ssd import read_ssv
+
+    ssv = {p.name: p for p in read_ssv(str(ROOT / "parameters" / "kubas2014-section3.ssv")).parameters}
+    ours = validate.s3_params(60)
+    common = sorted(set(ours) & set(ssv))
+    assert "contact.pMax" in common and len(common) > 15, common
+    for name in common:
+        p = ssv[name]
+        value = {"Real": float, "Integer": int}.get(p.type, lambda v: str(v).lower() == "true")(p.value)
+        assert math.isclose(float(ours[name]), float(value), rel_tol=1e-9), (name, ours[name], p.value)

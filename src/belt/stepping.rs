@@ -1,0 +1,184 @@
+//! Adaptive step-size control shared by the integrators ([`super::rkf45`],
+//! [`super::rosenbrock`]): the ODE interface, counters, failures, and the
+//! driver that steps to exactly a target time, carries the step size across
+//! calls, and restores the state when a call fails.
+
+/// An ODE y' = f(t, y) with a discrete update after each accepted step.
+pub trait OdeSystem {
+    fn dim(&self) -> usize;
+    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]);
+    /// Called with the new state after every accepted step.
+    fn after_step(&self, _y: &mut [f64]) {}
+}
+
+/// Counters, cumulative over the life of the integrator.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Stats {
+    pub steps: u64,
+    pub rejected: u64,
+    pub rhs_evals: u64,
+    pub last_step: f64,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum StepFailure {
+    /// More than `max_steps` steps were needed.
+    TooManySteps { t: f64, steps: u64 },
+    /// The step size fell below the resolution of t.
+    StepTooSmall { t: f64, h: f64 },
+    /// The right-hand side produced NaN or infinity at every trial step.
+    NonFinite { t: f64 },
+}
+
+impl std::fmt::Display for StepFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::TooManySteps { t, steps } => write!(
+                f,
+                "integrator step-count guard hit at t = {t} s after {steps} steps (solver.maxSteps)"
+            ),
+            Self::StepTooSmall { t, h } => {
+                write!(f, "integrator step size fell to {h:e} s at t = {t} s")
+            }
+            Self::NonFinite { t } => write!(f, "the state became non-finite at t = {t} s"),
+        }
+    }
+}
+
+// Fehlberg's coefficients.
+/// Step size, counters and work guard of an integrator.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StepControl {
+    /// Step size proposed for the next step.
+    pub h: f64,
+    /// Most accepted steps per call.
+    pub max_steps: u64,
+    pub stats: Stats,
+    /// State at the start of the current call.
+    backup: Vec<f64>,
+}
+
+impl StepControl {
+    pub fn new(dim: usize, h0: f64, max_steps: u64) -> Self {
+        Self {
+            h: h0,
+            max_steps,
+            stats: Stats::default(),
+            backup: vec![0.0; dim],
+        }
+    }
+}
+
+/// An embedded pair as the driver sees it.
+pub trait EmbeddedMethod<S: ?Sized> {
+    fn control(&mut self) -> &mut StepControl;
+    /// One trial step of size `h` from (t, y); keeps the candidate state and
+    /// returns the scaled error norm (non-finite when the step failed).
+    fn trial(&mut self, sys: &S, t: f64, y: &[f64], h: f64) -> f64;
+    /// Copies the candidate of the last trial into `y`.
+    fn take_step(&mut self, y: &mut [f64]);
+    /// Factor on h for scaled error `err` (rejected or accepted).
+    fn step_factor(&self, err: f64) -> f64;
+    /// A step was accepted; returns the factor to apply (hook for methods
+    /// that keep a factorization).
+    fn accepted(&mut self, factor: f64) -> f64 {
+        factor
+    }
+    /// A trial was rejected (error too large or not finite).
+    fn rejected(&mut self) {}
+    /// The call failed and the state was restored.
+    fn failed(&mut self) {}
+}
+
+/// Integrates `y` from `*t` to exactly `t_end` with `method`. On failure `y`,
+/// `*t` and the carried step size are restored to their values at the call
+/// (the counters keep the work done).
+pub fn advance<S, M>(
+    method: &mut M,
+    sys: &S,
+    t: &mut f64,
+    y: &mut [f64],
+    t_end: f64,
+) -> Result<(), StepFailure>
+where
+    S: OdeSystem + ?Sized,
+    M: EmbeddedMethod<S>,
+{
+    let t_start = *t;
+    let c = method.control();
+    c.backup.copy_from_slice(y);
+    let (h_start, last_step) = (c.h, c.stats.last_step);
+    let result = advance_inner(method, sys, t, y, t_end);
+    if result.is_err() {
+        let c = method.control();
+        y.copy_from_slice(&c.backup);
+        *t = t_start;
+        c.h = h_start;
+        c.stats.last_step = last_step;
+        method.failed();
+    }
+    result
+}
+
+fn advance_inner<S, M>(
+    method: &mut M,
+    sys: &S,
+    t: &mut f64,
+    y: &mut [f64],
+    t_end: f64,
+) -> Result<(), StepFailure>
+where
+    S: OdeSystem + ?Sized,
+    M: EmbeddedMethod<S>,
+{
+    let mut steps = 0u64;
+    let mut non_finite = 0u32;
+    while *t < t_end {
+        let c = method.control();
+        if steps >= c.max_steps {
+            return Err(StepFailure::TooManySteps { t: *t, steps });
+        }
+        let remaining = t_end - *t;
+        // Clip the last step to land on t_end (also when only slightly shorter).
+        let last = c.h >= remaining * (1.0 - 1e-12);
+        let h = if last { remaining } else { c.h };
+        let h_min = 16.0 * f64::EPSILON * t.abs().max(t_end.abs()).max(1e-3);
+        if h < h_min && !last {
+            return Err(StepFailure::StepTooSmall { t: *t, h });
+        }
+        let err = method.trial(sys, *t, y, h);
+        if !err.is_finite() {
+            non_finite += 1;
+            method.control().stats.rejected += 1;
+            method.rejected();
+            if non_finite > 40 {
+                return Err(StepFailure::NonFinite { t: *t });
+            }
+            method.control().h = h * 0.25;
+            continue;
+        }
+        non_finite = 0;
+        let factor = method.step_factor(err);
+        if err <= 1.0 {
+            method.take_step(y);
+            sys.after_step(y);
+            *t = if last { t_end } else { *t + h };
+            steps += 1;
+            let factor = method.accepted(factor);
+            let c = method.control();
+            c.stats.steps += 1;
+            c.stats.last_step = h;
+            // A clipped last step does not shrink the carried step size.
+            c.h = if last {
+                c.h.max(h * factor)
+            } else {
+                h * factor
+            };
+        } else {
+            method.control().stats.rejected += 1;
+            method.rejected();
+            method.control().h = h * factor;
+        }
+    }
+    Ok(())
+}
