@@ -17,7 +17,7 @@
 use super::model::{BeltSystem, BODY_DOF};
 use super::params::MAX_PULLEYS;
 use super::trig;
-use nalgebra::{Matrix2, Matrix3, RowVector3, Vector2, Vector3};
+use nalgebra::{Matrix2, Matrix3, RowVector3, SMatrix, Vector2, Vector3};
 
 /// Derivatives of one body's rows: accelerations (vx', vy', omega') and creep rate z'.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -180,7 +180,7 @@ impl BeltSystem {
         }
         jac.pw = [[0.0; MAX_PULLEYS]; MAX_PULLEYS];
         let (inv_m, inv_i) = (self.inv_mass, self.inv_inertia);
-        let row_scale = Matrix3::from_diagonal(&Vector3::new(inv_m, inv_m, inv_i));
+        let row_scale = [inv_m, inv_m, inv_i];
 
         // Contact and friction of each body (eq. 4-19): forces act at the
         // body centre, so only the translational rows and own columns.
@@ -303,22 +303,32 @@ impl BeltSystem {
             let drho_dd = dd / den - (2.0 * rho / den) * d;
             let f_d = Matrix2::identity() * (ks + bs * rho) + bs * d * drho_dd.transpose();
             let f_dd = (bs / den) * d * d.transpose();
-            // J_d: 2x6 over (x_p, y_p, phi_p, x_c, y_c, phi_c)
-            let mut jd = nalgebra::SMatrix::<f64, 2, 6>::zeros();
-            jd[(0, 0)] = -1.0;
-            jd[(1, 1)] = -1.0;
-            jd.set_column(2, &(-hpp));
-            jd[(0, 3)] = 1.0;
-            jd[(1, 4)] = 1.0;
-            jd.set_column(5, &(-hcp));
-            // d(dd)/dq: only through the angles
-            let mut ddq = nalgebra::SMatrix::<f64, 2, 6>::zeros();
-            ddq.set_column(2, &(wp * hp));
-            ddq.set_column(5, &(wc * hc));
-            let dfq = f_d * jd + f_dd * ddq;
-            let dfv = f_dd * jd;
-            let mut kq = -jd.transpose() * dfq;
-            let mut kv = -jd.transpose() * dfv;
+            // dF/dq and dF/dv (2 x 6 over x_p, y_p, phi_p, x_c, y_c, phi_c)
+            // column by column: the gap's Jacobian is J_d = [-I, -h_p^perp,
+            // I, -h_c^perp], and d(dd)/dq acts only through the angles
+            // (columns w_p h_p and w_c h_c).
+            let mut dfq = SMatrix::<f64, 2, 6>::zeros();
+            let mut dfv = SMatrix::<f64, 2, 6>::zeros();
+            dfq.fixed_view_mut::<2, 2>(0, 0).copy_from(&(-f_d));
+            dfq.fixed_view_mut::<2, 2>(0, 3).copy_from(&f_d);
+            dfq.set_column(2, &(f_dd * (wp * hp) - f_d * hpp));
+            dfq.set_column(5, &(f_dd * (wc * hc) - f_d * hcp));
+            dfv.fixed_view_mut::<2, 2>(0, 0).copy_from(&(-f_dd));
+            dfv.fixed_view_mut::<2, 2>(0, 3).copy_from(&f_dd);
+            dfv.set_column(2, &(-(f_dd * hpp)));
+            dfv.set_column(5, &(-(f_dd * hcp)));
+            // generalized forces Q = -J_d^T F: rows dF, h_p^perp . dF, -dF,
+            // h_c^perp . dF
+            let q_of = |df: &SMatrix<f64, 2, 6>| {
+                let mut k = SMatrix::<f64, 6, 6>::zeros();
+                k.fixed_view_mut::<2, 6>(0, 0).copy_from(df);
+                k.set_row(2, &(hpp.transpose() * df));
+                k.fixed_view_mut::<2, 6>(3, 0).copy_from(&(-df));
+                k.set_row(5, &(hcp.transpose() * df));
+                k
+            };
+            let mut kq = q_of(&dfq);
+            let mut kv = q_of(&dfv);
             // explicit angle dependence of the lever arms: d(h_perp . F)/dphi = -h . F
             kq[(2, 2)] -= hp.dot(&force);
             kq[(5, 5)] -= hc.dot(&force);
@@ -331,8 +341,9 @@ impl BeltSystem {
             kv[(2, 2)] -= bt;
             kv[(5, 5)] -= bt;
             kv[(5, 2)] += bt;
-            let blk = |m: &nalgebra::SMatrix<f64, 6, 6>, r: usize, c: usize| -> Matrix3<f64> {
-                row_scale * m.fixed_view::<3, 3>(r, c)
+            // a 3 x 3 block of Q divided by the mass, mass, inertia of its rows
+            let blk = |m: &SMatrix<f64, 6, 6>, r: usize, c: usize| -> Matrix3<f64> {
+                Matrix3::from_fn(|i, j| row_scale[i] * m[(r + i, c + j)])
             };
             {
                 let bp = &mut jac.bodies[p];
