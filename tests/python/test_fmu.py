@@ -198,8 +198,10 @@ def test_coupled_load_with_variable_steps(md, unzipdir):
     inside_h, outside_h = pair(half, "/2")
     inside_h, outside_h = inside_h[1::2], outside_h[1::2]  # the coarse points
     assert abs(inside[-1, 0]) > 0.1  # the drive is turning
-    # built-in load: independent of the communication grid (integrator tolerance)
-    assert np.max(np.abs(inside - inside_h)) < 1e-6
+    # built-in load: independent of the communication grid up to the
+    # integrator's error, a fraction of relTol = 1e-4 (measured 2e-6 of the
+    # largest speed); the coupled runs below differ by ~8 %
+    assert np.max(np.abs(inside - inside_h)) < 1e-5 * np.max(np.abs(inside))
     err = np.max(np.abs(inside - outside))
     err_h = np.max(np.abs(inside_h - outside_h))
     assert err < 0.12 * np.max(np.abs(inside))  # ~8 % at steps up to 0.5 ms
