@@ -1,5 +1,6 @@
 //! `cargo xtask bench [--quick] [--core N]`: runs the benchmark suites
-//! (`benches/belt.rs` all sections, `benches/stiff.rs` all sections) and
+//! (`benches/belt.rs` all sections and its accuracy section again with the
+//! stiff method, `benches/stiff.rs` all sections but the hour-long `kubas`) and
 //! rewrites the generated part of `docs/benchmarks.md`, the text between
 //! `<!-- bench:begin -->` and `<!-- bench:end -->`, with their tables, the
 //! machine (CPU model and cores from /proc/cpuinfo), the command, the date,
@@ -201,13 +202,28 @@ pub fn bench(args: &[String]) -> Result<()> {
     if o.quick {
         belt.arg("--quick");
     }
-    let belt_out = run_capture(&mut belt, "benches/belt.rs (all sections)")?;
+    let mut belt_out = run_capture(&mut belt, "benches/belt.rs (all sections)")?;
+    // the stiff method's accuracy against the same RKF45 reference (#8)
+    let mut stiff_accuracy = cargo();
+    stiff_accuracy.args([
+        "bench", "--bench", "belt", "--", "accuracy", "--method", "2",
+    ]);
+    if o.quick {
+        stiff_accuracy.arg("--quick");
+    }
+    belt_out.push_str(&run_capture(
+        &mut stiff_accuracy,
+        "benches/belt.rs accuracy --method 2",
+    )?);
     let mut stiff = cargo();
     stiff.args(["bench", "--bench", "stiff"]);
     if o.quick {
         stiff.env("BELT_BENCH_QUICK", "1");
     }
-    let stiff_out = run_capture(&mut stiff, "benches/stiff.rs (all sections)")?;
+    let stiff_out = run_capture(
+        &mut stiff,
+        "benches/stiff.rs (all sections but kubas, which takes over an hour)",
+    )?;
 
     let belt_out = as_markdown(&belt_out);
     let mut cmd = String::from("cargo xtask bench");
