@@ -563,6 +563,10 @@ mod fmu {
             let c = (api.instantiate)(c"bench".as_ptr(), 1, guid.as_ptr(), ptr::null(), &cb, 0, 0);
             assert!(!c.is_null());
             assert_eq!((api.set_integer)(c, &vr("solver.method"), 1, &method), 0);
+            // one long doStep takes more than the default work guard of
+            // 1e5 steps per doStep
+            let guard: c_int = 2_000_000_000;
+            assert_eq!((api.set_integer)(c, &vr("solver.maxSteps"), 1, &guard), 0);
             assert_eq!((api.setup_experiment)(c, 0, 0.0, 0.0, 0, 0.0), 0);
             assert_eq!((api.enter_init)(c), 0);
             assert_eq!((api.exit_init)(c), 0);
