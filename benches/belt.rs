@@ -7,7 +7,8 @@
 //! * `rhs`: cost of one right-hand-side evaluation per body at 60, 150, 600
 //!   and 1200 bodies (median of 7 repeats);
 //! * `accuracy`: real-time factor of the default 5PK drive and of the
-//!   section-3 drive over 2 s (`creep` law) at several tolerances, and the
+//!   section-3 drive (10 N m load stepped on at 0.3 s) over 2 s (`creep`
+//!   law) at several tolerances, and the
 //!   deviation of the headline outputs (driven speed, slip, tight and slack
 //!   span tension, means over 1.5-2 s) from a tight-tolerance RKF45
 //!   reference (also when `--method 2` benchmarks the stiff method);
@@ -176,13 +177,20 @@ impl Headline {
 
 /// Runs `p` from 0 to `t_end` (outputs sampled every ms from `t_avg`) and
 /// returns the cost and the headline means (pulley 2 is the driven one).
-fn run_drive(p: &DriveParams, t_avg: f64, t_end: f64) -> (Run, Headline) {
+/// `load`: (time, torque) stepped onto pulley 2's torque input.
+fn run_drive(p: &DriveParams, t_avg: f64, t_end: f64, load: Option<(f64, f64)>) -> (Run, Headline) {
     let mut d = Drive::new(p, 0.0).expect("valid drive");
     d.set_inputs(Inputs::default());
     let start = d.stats();
     let c0 = cpu_time();
     let dt = 1e-3;
     let n_out = ((t_end - t_avg) / dt).round() as usize;
+    if let Some((t_load, torque)) = load {
+        d.advance(t_load).expect("runs");
+        let mut inputs = *d.inputs();
+        inputs.torque[1] = torque;
+        d.set_inputs(inputs);
+    }
     d.advance(t_avg).expect("runs");
     let mut sum = Headline::default();
     let mut acc = |o: &Outputs| {
@@ -224,9 +232,14 @@ fn bench_accuracy(o: Opts) {
     println!(
         "0-{t_end} s; headline outputs are means over {t_avg}-{t_end} s sampled every 1 ms; reference: RKF45 at rtol 1e-7, atol 1e-9, whatever the method benchmarked."
     );
-    for (name, base) in [
-        ("default 5PK drive", DriveParams::kubas_section4()),
-        ("section-3 drive", DriveParams::kubas_section3()),
+    // the section-3 drive under the validation's load step (10 N m at 0.3 s)
+    for (name, base, load) in [
+        ("default 5PK drive", DriveParams::kubas_section4(), None),
+        (
+            "section-3 drive, 10 N m load stepped on at 0.3 s",
+            DriveParams::kubas_section3(),
+            Some((if o.quick { 0.01 } else { 0.3 }, 10.0)),
+        ),
     ] {
         println!("### {name}");
         let with_tol = |rtol: f64| {
@@ -238,7 +251,7 @@ fn bench_accuracy(o: Opts) {
         };
         let mut reference = with_tol(1e-7);
         reference.solver.method = Method::Rkf45;
-        let (r_ref, h_ref) = run_drive(&reference, t_avg, t_end);
+        let (r_ref, h_ref) = run_drive(&reference, t_avg, t_end, load);
         println!(
             "reference: driven speed {:.4} rad/s, slip {:.5}, tight {:.2} N, slack {:.2} N ({} steps, RTF {:.4})",
             h_ref.driven_speed,
@@ -251,7 +264,7 @@ fn bench_accuracy(o: Opts) {
         println!("| relTol (absTol = relTol/100) | real-time factor | steps/simulated s | rejected | RHS evaluations | dev. driven speed | dev. slip | dev. tight | dev. slack | max dev. |");
         println!("|---|---|---|---|---|---|---|---|---|---|");
         for rtol in [1e-3, 1e-4, 1e-5, 1e-6] {
-            let (r, h) = run_drive(&with_tol(rtol), t_avg, t_end);
+            let (r, h) = run_drive(&with_tol(rtol), t_avg, t_end, load);
             let dev = h.deviation(&h_ref);
             let max = dev.iter().copied().fold(0.0, f64::max);
             println!(
