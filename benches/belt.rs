@@ -29,26 +29,11 @@
 //! `rhs_loop` (no timing) for instruction counts:
 //! `valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*rhs_loop*' <bench binary> count-rhs 150 2000`.
 
+mod common;
 use belt_drive::belt::model::{NoRecord, SimdBuild};
 use belt_drive::belt::params::Method;
 use belt_drive::belt::{Drive, DriveParams, FrictionLaw, Inputs, Outputs};
-
-/// CPU time of this thread [s]: unlike wall time it does not count the
-/// time other processes hold the core (the development machine is shared).
-fn cpu_time() -> f64 {
-    let mut ts = libc::timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: valid pointer to a timespec; the clock id is a constant.
-    unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
-    ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(|a, b| a.total_cmp(b));
-    v[v.len() / 2]
-}
+use common::{cpu_time, median};
 
 /// Options of the integrator runs.
 #[derive(Clone, Copy)]

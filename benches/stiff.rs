@@ -7,31 +7,16 @@
 //! Sections by name (`cargo bench --bench stiff -- 5pk scaling`); none runs
 //! all but `kubas`, which takes over an hour and runs only when named.
 
+mod common;
 use belt_drive::belt::drive::Integrator;
 use belt_drive::belt::iteration_matrix::IterationMatrix;
 use belt_drive::belt::jacobian::Jacobian;
 use belt_drive::belt::model::NoRecord;
 use belt_drive::belt::params::Method;
 use belt_drive::belt::{Drive, DriveParams, FrictionLaw};
+use common::{cpu_time, median};
 use std::hint::black_box;
 use std::time::Instant;
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(|a, b| a.total_cmp(b));
-    v[v.len() / 2]
-}
-
-/// CPU time of this thread [s] (leaves out the time other processes hold
-/// the core on a shared machine, as in benches/belt.rs).
-fn cpu_time() -> f64 {
-    let mut ts = libc::timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: valid pointer to a timespec; the clock id is a constant.
-    unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
-    ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9
-}
 
 /// Median over 5 rounds of the CPU time per call of `f`.
 fn time_per_call(reps: usize, mut f: impl FnMut()) -> f64 {

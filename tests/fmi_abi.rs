@@ -175,6 +175,13 @@ fn parameter_warning_reaches_the_logger() {
     let i = Instance::initialized(&fmi, &[("contact.pMax", 5e-3)]);
     assert!(i.logged(1, "contact.pMax = 5e-3 m"), "{:?}", i.log.borrow());
     assert!(i.logged(1, "set contact.pMax to about"));
+    // the stiff method above its trusted tolerance
+    let s = Instance::initialized_with(&fmi, &[("solver.method", 2)], &[("solver.relTol", 1e-3)]);
+    assert!(
+        s.logged(1, "solver.relTol = 1e-3 with solver.method = 2"),
+        "{:?}",
+        s.log.borrow()
+    );
 }
 
 #[test]

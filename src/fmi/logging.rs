@@ -105,7 +105,6 @@ impl Logger {
         on(category) || on(LOG_ALL)
     }
 
-    /// Send `message` to the importer if the policy above allows it.
     /// Emits `message` whatever the enabled categories: for the few
     /// messages a user must see even with logging off (a parameter warning
     /// at initialization).
@@ -119,15 +118,10 @@ impl Logger {
         );
     }
 
+    /// Send `message` to the importer if the policy above allows it.
     pub fn log(&self, status: Fmi2Status, category: &str, message: &str) {
         if status >= Fmi2Status::Error || self.is_enabled(category) {
-            emit(
-                &self.callbacks,
-                &self.instance_name,
-                status,
-                category,
-                message,
-            );
+            self.always(status, category, message);
         }
     }
 }
