@@ -45,7 +45,6 @@ impl std::fmt::Display for StepFailure {
     }
 }
 
-// Fehlberg's coefficients.
 /// Step size, counters and work guard of an integrator.
 #[derive(Clone, Debug, PartialEq)]
 pub struct StepControl {
