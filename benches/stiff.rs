@@ -75,7 +75,7 @@ fn kernels(n: usize) {
     );
 }
 
-/// Runs `p` for `horizon` s in 1 ms communication steps; prints the wall
+/// Runs `p` for `horizon` s in 1 ms communication steps; prints the CPU
 /// time, real-time factor, counts and the averages over the last quarter.
 fn run(label: &str, p: &DriveParams, horizon: f64) {
     let mut d = Drive::new(p, 0.0).expect("valid drive");
@@ -104,16 +104,16 @@ fn run(label: &str, p: &DriveParams, horizon: f64) {
         }
     }
     // CPU time of this thread (the wall time on an idle core)
-    let wall = cpu_time() - c0;
+    let cpu = cpu_time() - c0;
     let s = d.stats();
     let (jacs, facs) = match d.integrator() {
         Integrator::Rosenbrock(r) => (r.jacobians, r.factorizations),
         Integrator::Rkf45(_) => (0, 0),
     };
     println!(
-        "{label}: CPU {wall:.3} s, real-time factor {:.2}, {:.2} s per simulated s per 1000 bodies; steps {} ({:.0}/s), rejected {}, rhs {}, jacobians {jacs}, factorizations {facs}; last quarter: driven {:.4} rad/s, span 1 {:.2} N, span 2 {:.2} N, slip {:.4} %",
-        horizon / wall,
-        wall / horizon / p.belt.n_bodies as f64 * 1000.0,
+        "{label}: CPU {cpu:.3} s, real-time factor {:.2}, {:.2} s per simulated s per 1000 bodies; steps {} ({:.0}/s), rejected {}, rhs {}, jacobians {jacs}, factorizations {facs}; last quarter: driven {:.4} rad/s, span 1 {:.2} N, span 2 {:.2} N, slip {:.4} %",
+        horizon / cpu,
+        cpu / horizon / p.belt.n_bodies as f64 * 1000.0,
         s.steps,
         s.steps as f64 / horizon,
         s.rejected,

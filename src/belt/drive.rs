@@ -585,45 +585,39 @@ mod tests {
     /// undamped contact is flagged with the parameter that causes it.
     #[test]
     fn warnings_name_the_cause() {
+        let warnings = |p: &DriveParams| {
+            Drive::mounted(p, 0.0)
+                .expect("valid drive")
+                .warnings()
+                .to_vec()
+        };
         for p in [DriveParams::kubas_section4(), DriveParams::kubas_section3()] {
-            let d = Drive::mounted(&p, 0.0).expect("valid drive");
-            assert!(d.warnings().is_empty(), "{:?}", d.warnings());
+            let w = warnings(&p);
+            assert!(w.is_empty(), "{w:?}");
         }
         // the 5PK drive's ramp at 30 x the penetration: pMax is named
         let mut p = DriveParams::kubas_section4();
         p.contact.p_max = 5e-3;
-        let w = Drive::mounted(&p, 0.0)
-            .expect("valid drive")
-            .warnings()
-            .to_vec();
+        let w = warnings(&p);
         assert_eq!(w.len(), 2, "{w:?}");
         assert!(w[0].starts_with("contact.pMax = 5e-3 m") && w[0].contains("pulley[1]"));
         // full ramp but a tiny damping coefficient: contact.damping is named
         let mut p = DriveParams::kubas_section4();
         p.contact.p_max = 1e-5;
         p.contact.damping *= 1e-3;
-        let w = Drive::mounted(&p, 0.0)
-            .expect("valid drive")
-            .warnings()
-            .to_vec();
+        let w = warnings(&p);
         assert_eq!(w.len(), 2, "{w:?}");
         assert!(w[1].starts_with("contact.damping = ") && w[1].contains("pulley[2]"));
         // no damping at all is the user's explicit choice
         p.contact.damping = 0.0;
-        assert!(Drive::mounted(&p, 0.0)
-            .expect("valid")
-            .warnings()
-            .is_empty());
+        assert!(warnings(&p).is_empty());
         // the stiff method above its trusted tolerance
         let mut p = DriveParams::kubas_section4();
         p.solver.method = Method::Rosenbrock;
         p.solver.rel_tol = 1e-4;
-        assert!(Drive::mounted(&p, 0.0)
-            .expect("valid")
-            .warnings()
-            .is_empty());
+        assert!(warnings(&p).is_empty());
         p.solver.rel_tol = 1e-3;
-        let w = Drive::mounted(&p, 0.0).expect("valid").warnings().to_vec();
+        let w = warnings(&p);
         assert_eq!(w.len(), 1, "{w:?}");
         assert!(w[0].starts_with("solver.relTol = 1e-3 with solver.method = 2"));
     }
