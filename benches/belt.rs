@@ -24,8 +24,9 @@
 //! `--method N` sets `solver.method` (1 = RKF45) for the integrator runs.
 //! `--quick` shortens the horizons (a smoke test of the command).
 //! `accuracy` also takes `--rtol 1e-4,5e-5` (the tolerances to run),
-//! `--window 1.5,4` (averaging window, simulated from 0) and
-//! `--drive 5pk|s3` (one of the two drives).
+//! `--window 1.5,4` (averaging window, simulated from 0),
+//! `--drive 5pk|s3` (one of the two drives) and `--atol 1e-6` (the absTol of
+//! the runs benchmarked instead of relTol/100; 1e-6 is the FMU's default).
 //!
 //! `cargo bench --bench belt -- count-rhs <n> <reps> [baseline|avx2|avx512]`
 //! evaluates the right-hand side `reps` times (as dispatched, or that build) at a running state of `n` bodies inside
@@ -49,6 +50,8 @@ struct Opts {
     window: Option<(f64, f64)>,
     /// `accuracy`: only the drive whose name starts with this.
     drive: Option<&'static str>,
+    /// `accuracy`: absTol of the runs benchmarked (None: relTol/100).
+    atol: Option<f64>,
 }
 
 impl Opts {
@@ -252,14 +255,14 @@ fn bench_accuracy(o: Opts) {
             (false, None) => window,
         };
         println!("### {name}, 0-{t_end} s, means over {t_avg}-{t_end} s");
-        let with_tol = |rtol: f64| {
+        let with_tol = |rtol: f64, atol: Option<f64>| {
             let mut p = base.clone();
             o.apply(&mut p);
             p.solver.rel_tol = rtol;
-            p.solver.abs_tol = rtol * 1e-2;
+            p.solver.abs_tol = atol.unwrap_or(rtol * 1e-2);
             p
         };
-        let mut reference = with_tol(1e-7);
+        let mut reference = with_tol(1e-7, None);
         reference.solver.method = Method::Rkf45;
         let (r_ref, h_ref) = run_drive(&reference, t_avg, t_end, load);
         println!(
@@ -271,10 +274,13 @@ fn bench_accuracy(o: Opts) {
             r_ref.steps,
             r_ref.rtf()
         );
-        println!("| relTol (absTol = relTol/100) | real-time factor | steps/simulated s | rejected | RHS evaluations | dev. driven speed | dev. slip | dev. tight | dev. slack | max dev. |");
+        let atol = o
+            .atol
+            .map_or("relTol/100".to_string(), |a| format!("{a:e}"));
+        println!("| relTol (absTol = {atol}) | real-time factor | steps/simulated s | rejected | RHS evaluations | dev. driven speed | dev. slip | dev. tight | dev. slack | max dev. |");
         println!("|---|---|---|---|---|---|---|---|---|---|");
         for &rtol in o.rtols.unwrap_or(&[1e-3, 1e-4, 1e-5, 1e-6]) {
-            let (r, h) = run_drive(&with_tol(rtol), t_avg, t_end, load);
+            let (r, h) = run_drive(&with_tol(rtol, o.atol), t_avg, t_end, load);
             let dev = h.deviation(&h_ref);
             let max = dev.iter().copied().fold(0.0, f64::max);
             println!(
@@ -441,6 +447,7 @@ fn main() {
         rtols: None,
         window: None,
         drive: None,
+        atol: None,
     };
     // a comma-separated list of numbers (leaked: parsed once per run)
     let numbers = |s: Option<&String>, what: &str| -> &'static [f64] {
@@ -459,6 +466,11 @@ fn main() {
             }
             "--quick" => opts.quick = true,
             "--rtol" => opts.rtols = Some(numbers(it.next(), "--rtol: comma-separated tolerances")),
+            "--atol" => {
+                let a = numbers(it.next(), "--atol: an absolute tolerance");
+                assert!(a.len() == 1 && a[0] > 0.0, "--atol: one tolerance > 0");
+                opts.atol = Some(a[0]);
+            }
             "--window" => {
                 let w = numbers(it.next(), "--window: T_AVG,T_END");
                 assert!(w.len() == 2 && w[0] < w[1], "--window: T_AVG,T_END");

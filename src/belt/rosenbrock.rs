@@ -263,7 +263,6 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
     /// One trial step of size h from (t, y): the new state goes to
     /// `self.stage`; returns the weighted RMS error norm (infinite if the
     /// iteration matrix is singular).
-    #[allow(clippy::needless_range_loop)] // indices run over several parallel arrays
     fn trial(&mut self, sys: &Sys, t: f64, y: &[f64], h: f64) -> f64 {
         if self.jac_age.is_none() {
             sys.jacobian(t, y, &mut self.jac);
@@ -280,45 +279,44 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
             }
             self.factored_c = Some(c);
         }
-        let n = y.len();
         for i in 0..S {
-            // stage state
+            // stage state y + sum a_ij U_j
             let stage = &mut self.stage;
             stage.copy_from_slice(y);
             for j in 0..i {
-                let a = T.a[i][j];
-                if a != 0.0 {
-                    for (s, u) in stage.iter_mut().zip(&self.u[j]) {
-                        *s += a * u;
-                    }
-                }
+                axpy(T.a[i][j], &self.u[j], stage);
             }
             sys.rhs(t + T.alpha[i] * h, stage, &mut self.f);
             self.control.stats.rhs_evals += 1;
             // right-hand side of (I - c J) U_i = c (f + sum c_ij/h U_j)
             let (done, rest) = self.u.split_at_mut(i);
             let ui = &mut rest[0];
-            for k in 0..n {
-                let mut r = self.f[k];
-                for (j, uj) in done.iter().enumerate() {
-                    r += T.c[i][j] / h * uj[k];
-                }
-                ui[k] = c * r;
+            for (u, f) in ui.iter_mut().zip(&self.f) {
+                *u = c * f;
+            }
+            for (j, uj) in done.iter().enumerate() {
+                axpy(c * T.c[i][j] / h, uj, ui);
             }
             sys.solve(&self.jac, &mut self.mat, ui);
         }
+        // y1 = y + sum m_i U_i, error sum e_i U_i, weighted RMS norm
+        let [u0, u1, u2, u3] = &self.u;
         let mut sum = 0.0;
-        for k in 0..n {
-            let mut y1 = y[k];
-            let mut err = 0.0;
-            for i in 0..S {
-                y1 += T.m[i] * self.u[i][k];
-                err += T.e[i] * self.u[i][k];
-            }
-            let w = self.abs_tol + self.rel_tol * y[k].abs().max(y1.abs());
-            let e = self.mask[k] * err / w;
+        for (((((y1, &y0), &m), a), b), (c, d)) in self
+            .stage
+            .iter_mut()
+            .zip(y)
+            .zip(&self.mask)
+            .zip(u0)
+            .zip(u1)
+            .zip(u2.iter().zip(u3))
+        {
+            let new = y0 + (T.m[0] * a + T.m[1] * b + T.m[2] * c + T.m[3] * d);
+            let err = T.e[0] * a + T.e[1] * b + T.e[2] * c + T.e[3] * d;
+            let w = self.abs_tol + self.rel_tol * y0.abs().max(new.abs());
+            let e = m * err / w;
             sum += e * e;
-            self.stage[k] = y1;
+            *y1 = new;
         }
         (sum / self.controlled as f64).sqrt()
     }
@@ -333,6 +331,16 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
         t_end: f64,
     ) -> Result<(), StepFailure> {
         super::stepping::advance(self, sys, t, y, t_end)
+    }
+}
+
+/// `y += a x`, skipped for a = 0 (zero coefficients of the tableau).
+#[inline]
+fn axpy(a: f64, x: &[f64], y: &mut [f64]) {
+    if a != 0.0 {
+        for (y, x) in y.iter_mut().zip(x) {
+            *y += a * x;
+        }
     }
 }
 
