@@ -98,11 +98,33 @@ impl IterationMatrix {
 
     /// Factors `I - c J`. Returns false if a pivot block is singular.
     pub fn factor(&mut self, sys: &BeltSystem, jac: &Jacobian, c: f64) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has AVX2 (checked above).
+            return unsafe { self.factor_avx2(sys, jac, c) };
+        }
         each!(self, f => f.factor(sys, jac, c))
     }
 
     /// Overwrites `b` (a full state-sized vector) with x, `(I - c J) x = b`.
     pub fn solve(&mut self, sys: &BeltSystem, jac: &Jacobian, b: &mut [f64]) {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has AVX2 (checked above).
+            return unsafe { self.solve_avx2(sys, jac, b) };
+        }
+        each!(self, f => f.solve(sys, jac, b))
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn factor_avx2(&mut self, sys: &BeltSystem, jac: &Jacobian, c: f64) -> bool {
+        each!(self, f => f.factor(sys, jac, c))
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn solve_avx2(&mut self, sys: &BeltSystem, jac: &Jacobian, b: &mut [f64]) {
         each!(self, f => f.solve(sys, jac, b))
     }
 }
@@ -134,7 +156,7 @@ impl<const NB: usize> Factors<NB> {
     }
 
     /// Reduced block S_{i,nb} for neighbour slot (PREV, SELF, NEXT).
-    #[inline]
+    #[inline(always)]
     fn block(jac: &Jacobian, c: f64, i: usize, slot: usize) -> Matrix3<f64> {
         let b = &jac.bodies[i];
         let mut s = -(c * c) * b.aq[slot] - c * b.av[slot];
@@ -145,27 +167,28 @@ impl<const NB: usize> Factors<NB> {
     }
 
     /// H_i = c^2 g_q + c g_v: how the creep increment follows the velocity increment.
-    #[inline]
+    #[inline(always)]
     fn h_row(jac: &Jacobian, c: f64, i: usize) -> RowVector3<f64> {
         let b = &jac.bodies[i];
         (c * c) * b.gq + c * b.gv
     }
 
     /// Border column of body i for pulley j (3-vector), S_{i,w_j}.
-    #[inline]
+    #[inline(always)]
     fn pulley_column(jac: &Jacobian, c: f64, i: usize, j: usize) -> Vector3<f64> {
         let b = &jac.bodies[i];
         -c * b.aw[j] - (c * c * b.gw[j]) * b.az
     }
 
     /// Pulley j's row for body i's velocities, R_{j,i}.
-    #[inline]
+    #[inline(always)]
     fn pulley_row(jac: &Jacobian, c: f64, i: usize, j: usize) -> RowVector3<f64> {
         let b = &jac.bodies[i];
         -(c * c) * b.pq[j] - c * b.pv[j] - (c * b.pz[j]) * Self::h_row(jac, c, i)
     }
 
     /// Border entries (rows of body n-1 and the pulleys) of body i's columns.
+    #[inline(always)]
     fn border_rows(
         &self,
         jac: &Jacobian,
@@ -197,6 +220,7 @@ impl<const NB: usize> Factors<NB> {
     }
 
     /// Border columns (body n-1 and pulley speeds) of body i's rows.
+    #[inline(always)]
     fn border_cols(
         &self,
         jac: &Jacobian,
@@ -226,6 +250,7 @@ impl<const NB: usize> Factors<NB> {
         e
     }
 
+    #[inline(always)]
     fn factor(&mut self, sys: &BeltSystem, jac: &Jacobian, c: f64) -> bool {
         let n = sys.n;
         let m = n - 1;
@@ -309,7 +334,38 @@ impl<const NB: usize> Factors<NB> {
         true
     }
 
-    #[allow(clippy::needless_range_loop)] // indices run over several parallel arrays
+    /// Writes body i's increments: velocities `dv`, positions `b_q + c dv`,
+    /// creep state from `bz` (its reduced right-hand side) and the pulley
+    /// speed increments `dw`.
+    #[inline(always)]
+    fn recover(
+        jac: &Jacobian,
+        c: f64,
+        dw: &[f64],
+        b: &mut [f64],
+        i: usize,
+        dv: Vector3<f64>,
+        bz: f64,
+    ) {
+        let bj = &jac.bodies[i];
+        let o = BODY_DOF * i;
+        let dq = Vector3::new(b[o], b[o + 1], b[o + 2]) + c * dv;
+        // bz is b_z + c g_q b_q; add the terms of the increments
+        let mut dz = bz + c * (c * bj.gq.dot(&dv.transpose()) + bj.gv.dot(&dv.transpose()));
+        if bj.touching != 0 {
+            for (g, w) in bj.gw.iter().zip(dw) {
+                dz += c * g * w;
+            }
+        }
+        b[o..o + 3].copy_from_slice(dq.as_slice());
+        b[o + 3..o + 6].copy_from_slice(dv.as_slice());
+        b[o + 6] = dz;
+    }
+
+    /// Two sweeps along the belt: forward, each body's reduced right-hand
+    /// side and its elimination; backward, its velocities by substitution and
+    /// then its positions and creep state.
+    #[inline(always)]
     fn solve(&mut self, sys: &BeltSystem, jac: &Jacobian, b: &mut [f64]) {
         let n = sys.n;
         let m = n - 1;
@@ -317,45 +373,45 @@ impl<const NB: usize> Factors<NB> {
         let q = |b: &[f64], i: usize| {
             Vector3::new(b[BODY_DOF * i], b[BODY_DOF * i + 1], b[BODY_DOF * i + 2])
         };
-        // 1. reduced right-hand sides
+        // 1. forward: reduced right-hand sides (positions and creep
+        //    eliminated), each eliminated as soon as it is formed
         let mut rw = SVector::<f64, NB>::zeros();
-        for i in 0..n {
-            let bj = &jac.bodies[i];
+        for (j, s) in self.slot.iter().enumerate().take(sys.np) {
+            if let Some(k) = *s {
+                rw[k] = b[sys.pulley_offset(j) + 1];
+            }
+        }
+        let mut prev_rv = Vector3::zeros();
+        let (mut q_prev, mut q_self) = (q(b, n - 1), q(b, 0));
+        for (i, bj) in jac.bodies.iter().enumerate() {
             let o = BODY_DOF * i;
-            let (prev, next) = (
-                if i == 0 { n - 1 } else { i - 1 },
-                if i + 1 == n { 0 } else { i + 1 },
-            );
-            let bq = q(b, i);
-            let bz = b[o + 6] + c * (bj.gq * bq)[0];
+            let q_next = q(b, if i + 1 == n { 0 } else { i + 1 });
+            let bz = b[o + 6] + c * bj.gq.dot(&q_self.transpose());
             self.bz[i] = bz;
-            let bv = Vector3::new(b[o + 3], b[o + 4], b[o + 5]);
-            self.rv[i] = bv
-                + c * (bj.aq[PREV] * q(b, prev) + bj.aq[SELF] * bq + bj.aq[NEXT] * q(b, next))
+            let mut rv = Vector3::new(b[o + 3], b[o + 4], b[o + 5])
+                + c * (bj.aq[PREV] * q_prev + bj.aq[SELF] * q_self + bj.aq[NEXT] * q_next)
                 + (c * bz) * bj.az;
             if bj.touching != 0 {
                 for (j, s) in self.slot.iter().enumerate().take(sys.np) {
                     if let Some(k) = *s {
                         if bj.touching & (1 << j) != 0 {
-                            rw[k] += c * ((bj.pq[j] * bq)[0] + bj.pz[j] * bz);
+                            rw[k] += c * (bj.pq[j].dot(&q_self.transpose()) + bj.pz[j] * bz);
                         }
                     }
                 }
             }
-        }
-        for (j, s) in self.slot.iter().enumerate().take(sys.np) {
-            if let Some(k) = *s {
-                rw[k] += b[sys.pulley_offset(j) + 1];
+            if i < m {
+                if i > 0 {
+                    rv -= self.l[i] * prev_rv;
+                }
+                rw -= self.fd[i] * rv;
+                prev_rv = rv;
+            } else {
+                let mut top = rw.fixed_view_mut::<3, 1>(0, 0);
+                top += rv;
             }
-        }
-        rw.fixed_view_mut::<3, 1>(0, 0).copy_from(&self.rv[n - 1]);
-        // 2. forward elimination of the right-hand side
-        for i in 0..m {
-            if i > 0 {
-                let prev = self.rv[i - 1];
-                self.rv[i] -= self.l[i] * prev;
-            }
-            rw -= self.fd[i] * self.rv[i];
+            self.rv[i] = rv;
+            (q_prev, q_self) = (q_self, q_next);
         }
         // border solve: L U x = P rw
         let mut xb = SVector::<f64, NB>::zeros();
@@ -374,18 +430,7 @@ impl<const NB: usize> Factors<NB> {
             }
             xb[k] = s / self.g[(k, k)];
         }
-        // 3. back substitution: body velocities
-        let mut next = Vector3::zeros();
-        for i in (0..m).rev() {
-            let mut r = self.rv[i] - self.e[i] * xb;
-            if i + 1 < m {
-                r -= self.u[i] * next;
-            }
-            next = self.dinv[i] * r;
-            self.rv[i] = next;
-        }
-        self.rv[n - 1] = Vector3::new(xb[0], xb[1], xb[2]);
-        // 4. recover positions, creep, pulleys
+        // pulley speeds and angles
         let mut dw = [0.0; MAX_PULLEYS];
         for (j, s) in self.slot.iter().enumerate().take(sys.np) {
             if let Some(k) = *s {
@@ -395,24 +440,24 @@ impl<const NB: usize> Factors<NB> {
                 b[o] += c * xb[k];
             }
         }
-        for i in 0..n {
-            let bj = &jac.bodies[i];
-            let o = BODY_DOF * i;
-            let dv = self.rv[i];
-            let dq = q(b, i) + c * dv;
-            let mut dz = b[o + 6] + c * ((bj.gq * dq)[0] + (bj.gv * dv)[0]);
-            if bj.touching != 0 {
-                for j in 0..sys.np {
-                    dz += c * bj.gw[j] * dw[j];
-                }
+        // 2. backward: velocities, then positions and creep of each body
+        Self::recover(
+            jac,
+            c,
+            &dw[..sys.np],
+            b,
+            n - 1,
+            Vector3::new(xb[0], xb[1], xb[2]),
+            self.bz[n - 1],
+        );
+        let mut next = Vector3::zeros();
+        for i in (0..m).rev() {
+            let mut r = self.rv[i] - self.e[i] * xb;
+            if i + 1 < m {
+                r -= self.u[i] * next;
             }
-            b[o] = dq[0];
-            b[o + 1] = dq[1];
-            b[o + 2] = dq[2];
-            b[o + 3] = dv[0];
-            b[o + 4] = dv[1];
-            b[o + 5] = dv[2];
-            b[o + 6] = dz;
+            next = self.dinv[i] * r;
+            Self::recover(jac, c, &dw[..sys.np], b, i, next, self.bz[i]);
         }
     }
 }
@@ -512,6 +557,46 @@ pub(crate) mod tests {
                     );
                 }
             }
+        }
+    }
+
+    /// The AVX2 builds of factor and solve give the baseline's numbers to
+    /// the last bit (no FMA).
+    #[test]
+    #[cfg(target_arch = "x86_64")]
+    fn avx2_build_matches_baseline_to_the_bit() {
+        if !std::arch::is_x86_feature_detected!("avx2") {
+            return;
+        }
+        let mut p = DriveParams::kubas_section4();
+        p.belt.n_bodies = 120;
+        let d = Drive::new(&p, 0.0).unwrap();
+        let sys = d.system();
+        let mut y = d.state().to_vec();
+        for i in 0..sys.n {
+            let o = BODY_DOF * i;
+            y[o + 3] += 0.3 * (i as f64).sin();
+            y[o + 5] += 10.0 * (i as f64).cos();
+            y[o + 6] = 4e-5 * (i as f64 * 0.3).sin();
+        }
+        let mut jac = Jacobian::new(sys);
+        sys.jacobian(0.01, &y, &mut jac);
+        assert!(jac.bodies.iter().any(|b| b.touching != 0));
+        let rhs: Vec<f64> = (0..sys.dim())
+            .map(|k| ((k * 7919) % 13) as f64 - 6.0)
+            .collect();
+        let (mut base, mut wide) = (IterationMatrix::new(sys), IterationMatrix::new(sys));
+        for c in [1e-6, 1e-4] {
+            assert!(each!(&mut base, f => f.factor(sys, &jac, c)));
+            // SAFETY: the CPU has AVX2 (checked above).
+            assert!(unsafe { wide.factor_avx2(sys, &jac, c) });
+            assert_eq!(base, wide);
+            let (mut xb, mut xw) = (rhs.clone(), rhs.clone());
+            each!(&mut base, f => f.solve(sys, &jac, &mut xb));
+            // SAFETY: as above.
+            unsafe { wide.solve_avx2(sys, &jac, &mut xw) };
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&xb), bits(&xw), "c = {c:e}");
         }
     }
 }

@@ -168,9 +168,26 @@ impl Jacobian {
 
 impl BeltSystem {
     /// Evaluates the Jacobian of [`BeltSystem::rhs`] at (t, y) into `jac`.
-    /// Allocates nothing.
-    #[allow(clippy::needless_range_loop)] // indices run over several parallel arrays
+    /// Allocates nothing. Runs an AVX2 build of the same code where the CPU
+    /// has it (no FMA: the same numbers to the last bit).
     pub fn jacobian(&self, t: f64, y: &[f64], jac: &mut Jacobian) {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has AVX2 (checked above).
+            return unsafe { self.jacobian_avx2(t, y, jac) };
+        }
+        self.jacobian_impl(t, y, jac);
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn jacobian_avx2(&self, t: f64, y: &[f64], jac: &mut Jacobian) {
+        self.jacobian_impl(t, y, jac);
+    }
+
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // indices run over several parallel arrays
+    fn jacobian_impl(&self, t: f64, y: &[f64], jac: &mut Jacobian) {
         let n = self.n;
         let np = self.np;
         let hl = self.half_length;
@@ -499,6 +516,31 @@ mod tests {
                 let cols = check(d.system(), 0.02, &y);
                 assert_eq!(cols, d.system().energy_offset());
             }
+        }
+    }
+
+    /// The AVX2 build computes the same numbers to the last bit (it has no
+    /// FMA), so results do not depend on the CPU the FMU runs on.
+    #[test]
+    #[cfg(target_arch = "x86_64")]
+    fn avx2_build_matches_baseline_to_the_bit() {
+        if !std::arch::is_x86_feature_detected!("avx2") {
+            return;
+        }
+        for law in [FrictionLaw::Creep, FrictionLaw::Kubas2014] {
+            let d = drive(law, false);
+            let sys = d.system();
+            let y = running_state(&d, &[0.0, 3e-5, -7e-5, 1.2e-4]);
+            let (mut a, mut b) = (Jacobian::new(sys), Jacobian::new(sys));
+            sys.jacobian_impl(0.02, &y, &mut a);
+            // SAFETY: the CPU has AVX2 (checked above).
+            unsafe { sys.jacobian_avx2(0.02, &y, &mut b) };
+            let (mut va, mut vb) = (Vec::new(), Vec::new());
+            a.save(&mut va);
+            b.save(&mut vb);
+            assert!(va.iter().any(|&v| v != 0.0));
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&va), bits(&vb), "{law:?}");
         }
     }
 }
