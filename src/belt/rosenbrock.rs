@@ -316,10 +316,11 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
             }
             sys.solve(&self.jac, &mut self.mat, ui);
         }
-        // y1 = y + sum m_i U_i, error sum e_i U_i, weighted RMS norm
+        // y1 = y + sum m_i U_i, error sum e_i U_i (stage increments s0..s3),
+        // weighted RMS norm
         let [u0, u1, u2, u3] = &self.u;
         let mut sum = 0.0;
-        for (((((y1, &y0), &m), a), b), (c, d)) in self
+        for (((((y1, &y0), &m), s0), s1), (s2, s3)) in self
             .stage
             .iter_mut()
             .zip(y)
@@ -328,8 +329,8 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
             .zip(u1)
             .zip(u2.iter().zip(u3))
         {
-            let new = y0 + (T.m[0] * a + T.m[1] * b + T.m[2] * c + T.m[3] * d);
-            let err = T.e[0] * a + T.e[1] * b + T.e[2] * c + T.e[3] * d;
+            let new = y0 + (T.m[0] * s0 + T.m[1] * s1 + T.m[2] * s2 + T.m[3] * s3);
+            let err = T.e[0] * s0 + T.e[1] * s1 + T.e[2] * s2 + T.e[3] * s3;
             let w = self.abs_tol + self.rel_tol * y0.abs().max(new.abs());
             let e = m * err / w;
             sum += e * e;
