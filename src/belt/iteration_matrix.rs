@@ -129,6 +129,13 @@ impl IterationMatrix {
     }
 }
 
+/// Body i's position entries (x, y, phi) of a state-sized vector.
+#[inline(always)]
+fn positions(b: &[f64], i: usize) -> Vector3<f64> {
+    let o = BODY_DOF * i;
+    Vector3::new(b[o], b[o + 1], b[o + 2])
+}
+
 impl<const NB: usize> Factors<NB> {
     fn new(sys: &BeltSystem) -> Self {
         let m = sys.n.saturating_sub(1);
@@ -349,7 +356,7 @@ impl<const NB: usize> Factors<NB> {
     ) {
         let bj = &jac.bodies[i];
         let o = BODY_DOF * i;
-        let dq = Vector3::new(b[o], b[o + 1], b[o + 2]) + c * dv;
+        let dq = positions(b, i) + c * dv;
         // bz is b_z + c g_q b_q; add the terms of the increments
         let mut dz = bz + c * (c * bj.gq.dot(&dv.transpose()) + bj.gv.dot(&dv.transpose()));
         if bj.touching != 0 {
@@ -370,9 +377,6 @@ impl<const NB: usize> Factors<NB> {
         let n = sys.n;
         let m = n - 1;
         let c = self.c;
-        let q = |b: &[f64], i: usize| {
-            Vector3::new(b[BODY_DOF * i], b[BODY_DOF * i + 1], b[BODY_DOF * i + 2])
-        };
         // 1. forward: reduced right-hand sides (positions and creep
         //    eliminated), each eliminated as soon as it is formed
         let mut rw = SVector::<f64, NB>::zeros();
@@ -382,10 +386,10 @@ impl<const NB: usize> Factors<NB> {
             }
         }
         let mut prev_rv = Vector3::zeros();
-        let (mut q_prev, mut q_self) = (q(b, n - 1), q(b, 0));
+        let (mut q_prev, mut q_self) = (positions(b, n - 1), positions(b, 0));
         for (i, bj) in jac.bodies.iter().enumerate() {
             let o = BODY_DOF * i;
-            let q_next = q(b, if i + 1 == n { 0 } else { i + 1 });
+            let q_next = positions(b, if i + 1 == n { 0 } else { i + 1 });
             let bz = b[o + 6] + c * bj.gq.dot(&q_self.transpose());
             self.bz[i] = bz;
             let mut rv = Vector3::new(b[o + 3], b[o + 4], b[o + 5])
