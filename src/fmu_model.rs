@@ -7,8 +7,8 @@ use crate::belt::drive::Outputs;
 use crate::belt::params::{FrictionLaw, Method, PulleyParams, MAX_PULLEYS};
 use crate::belt::rkf45::Stats;
 use crate::belt::{Drive, DriveParams, Inputs};
-use crate::fmi::{FmuModel, StepError};
-use crate::variables::{Start, Var, VarInfo, VARIABLES};
+use crate::fmi::{FmuModel, ModelDescription, StepError};
+use crate::variables::{Start, Var, VarInfo, MODEL_DESCRIPTION, VARIABLES};
 
 /// Integer parameters as the user set them; checked when the drive is built
 /// so the message can name the variable and its range.
@@ -231,6 +231,14 @@ impl BeltDrive {
 }
 
 impl FmuModel for BeltDrive {
+    type Var = Var;
+
+    const STATE_MAGIC: [u8; 8] = *b"BELTFMU\0";
+
+    fn description() -> &'static ModelDescription<Var> {
+        &MODEL_DESCRIPTION
+    }
+
     fn new() -> Self {
         let mut params = DriveParams::kubas_section4();
         params

@@ -11,12 +11,12 @@ use std::ffi::{c_char, c_int, CStr};
 use std::panic::{self, AssertUnwindSafe};
 use std::ptr;
 
+use super::description::VarType;
 use super::instance::{allowed, Instance};
 use super::logging::{self, Logger, LOG_EVENTS, LOG_STATUS_DISCARD, LOG_STATUS_ERROR};
 use super::model::FmuModel;
 use super::state::Snapshot;
 use super::types::*;
-use crate::variables::{VarType, GUID};
 
 /// Run `body` on the instance behind `c`; map `Err` and panics to fmi2Error.
 ///
@@ -178,17 +178,23 @@ pub unsafe fn instantiate<M: FmuModel>(
             );
         }
         // SAFETY: NULL or a NUL-terminated string per FMI 2.0.
+        let guid = M::description().guid;
         match unsafe { string(fmu_guid, "fmuGUID") } {
-            Ok(g) if g == GUID => {}
+            Ok(g) if g == guid => {}
             Ok(g) => {
                 return refuse(
                     name,
-                    format!("fmuGUID {g} does not match this binary's GUID {GUID} (the modelDescription.xml belongs to another build)"),
+                    format!("fmuGUID {g} does not match this binary's GUID {guid} (the modelDescription.xml belongs to another build)"),
                 )
             }
             Err(e) => return refuse(name, e),
         }
-        let logger = Logger::new(callbacks, logging::c_string(name), logging_on != FMI2_FALSE);
+        let logger = Logger::new(
+            callbacks,
+            logging::c_string(name),
+            logging_on != FMI2_FALSE,
+            M::description().log_categories,
+        );
         let inst = Instance::<M>::new(logger);
         inst.logger.log(Fmi2Status::Ok, LOG_EVENTS, "instantiated");
         Box::into_raw(Box::new(inst)) as Fmi2Component

@@ -21,11 +21,11 @@
 
 use std::ffi::CString;
 
+use super::description::{Causality, VarInfo, VarType, Variability};
 use super::logging::{self, Logger, LOG_ALL, LOG_EVENTS, LOG_STATUS_DISCARD, LOG_STATUS_WARNING};
 use super::model::{FmuModel, StepError};
 use super::state::Registry;
 use super::types::{Fmi2Status, Fmi2String};
-use crate::variables::{Causality, VarInfo, VarType, Variability, VARIABLES};
 
 /// The Co-Simulation states this FMU can be in (see module docs).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -266,11 +266,12 @@ impl<M: FmuModel> Instance<M> {
     // -- Variables ----------------------------------------------------------
 
     /// The variable of type `ty` with value reference `vr`.
-    pub fn variable(ty: VarType, vr: u32) -> Result<&'static VarInfo, String> {
-        if let Some(v) = crate::variables::lookup(ty, vr) {
+    pub fn variable(ty: VarType, vr: u32) -> Result<&'static VarInfo<M::Var>, String> {
+        let description = M::description();
+        if let Some(v) = description.lookup(ty, vr) {
             return Ok(v);
         }
-        Err(match VARIABLES.iter().find(|v| v.vr == vr) {
+        Err(match description.by_vr(vr) {
             Some(v) => format!(
                 "value reference {vr} is the {:?} variable \"{}\", not a {ty:?} variable",
                 v.ty, v.name
@@ -283,7 +284,7 @@ impl<M: FmuModel> Instance<M> {
     /// footnotes of the fmi2SetXXX row): parameters and inputs before and
     /// during initialization; afterwards inputs and tunable parameters only.
     /// Outputs, calculated parameters, locals, constants: never.
-    pub fn check_settable(&self, v: &VarInfo) -> Result<(), String> {
+    pub fn check_settable(&self, v: &VarInfo<M::Var>) -> Result<(), String> {
         let never = match v.causality {
             Causality::Output => Some("an output"),
             Causality::CalculatedParameter => Some("a calculated parameter"),
@@ -319,7 +320,7 @@ impl<M: FmuModel> Instance<M> {
         ty: VarType,
         vrs: &[u32],
         values: &mut [T],
-        get: impl Fn(&mut M, &VarInfo) -> Result<T, String>,
+        get: impl Fn(&mut M, &VarInfo<M::Var>) -> Result<T, String>,
     ) -> Result<Fmi2Status, String> {
         self.check_state(allowed::GET)?;
         for (&vr, value) in vrs.iter().zip(values.iter_mut()) {
@@ -336,7 +337,7 @@ impl<M: FmuModel> Instance<M> {
         ty: VarType,
         vrs: &[u32],
         values: &[T],
-        set: impl Fn(&mut M, &VarInfo, T) -> Result<(), String>,
+        set: impl Fn(&mut M, &VarInfo<M::Var>, T) -> Result<(), String>,
     ) -> Result<Fmi2Status, String> {
         self.check_state(allowed::SET)?;
         for (&vr, &value) in vrs.iter().zip(values) {
