@@ -10,9 +10,10 @@ use crate::belt::{Drive, DriveParams, Inputs};
 use crate::fmi::{FmuModel, ModelDescription, StepError};
 use crate::variables::{Start, Var, VarInfo, MODEL_DESCRIPTION, VARIABLES};
 
-/// Integer parameters as the user set them; checked when the drive is built
-/// so the message can name the variable and its range.
-#[derive(Clone, Debug, PartialEq)]
+/// Integer parameters as the user set them; checked against the ranges of
+/// the model description when the drive is built, so the message can name
+/// the variable and its range.
+#[derive(Clone, Debug, Default, PartialEq)]
 struct IntegerParams {
     n_pulleys: i32,
     n_bodies: i32,
@@ -39,32 +40,41 @@ fn range_error(name: &str, allowed: &str, got: impl std::fmt::Display) -> String
     format!("{name} must be {allowed} (got {got})")
 }
 
+/// The scalar variable `var` of the model description.
+fn info(var: Var) -> &'static VarInfo {
+    VARIABLES
+        .iter()
+        .find(|v| v.var == var)
+        .expect("every Integer parameter is in the generated table")
+}
+
 impl BeltDrive {
     /// The physics parameters with the integer ones checked and applied
     /// (public for tests that compare parameter sets with `DriveParams`).
     pub fn drive_params(&self) -> Result<DriveParams, String> {
         let i = &self.ints;
+        // min/max of the model description, the ranges importers are shown.
+        for (var, x) in [
+            (Var::NPulleys, i.n_pulleys),
+            (Var::BeltNBodies, i.n_bodies),
+            (Var::FrictionLaw, i.friction_law),
+            (Var::FrictionZoneStart, i.zone_start),
+            (Var::FrictionZoneBodies, i.zone_bodies),
+            (Var::ProbeBody, i.probe_body),
+            (Var::SolverMethod, i.method),
+            (Var::SolverMaxSteps, i.max_steps),
+        ] {
+            info(var).check_range(f64::from(x))?;
+        }
         let mut p = self.params.clone();
-        if !(2..=MAX_PULLEYS as i32).contains(&i.n_pulleys) {
-            return Err(range_error("nPulleys", "in 2..=6", i.n_pulleys));
-        }
         p.pulleys.truncate(i.n_pulleys as usize);
-        if i.n_bodies < 3 {
-            return Err(range_error("belt.nBodies", ">= 3", i.n_bodies));
-        }
         p.belt.n_bodies = i.n_bodies as usize;
         p.friction.law = FrictionLaw::from_code(i.friction_law).ok_or_else(|| {
             range_error("friction.law", "1 (kubas2014) or 2 (creep)", i.friction_law)
         })?;
-        if i.zone_start < 1 {
-            return Err(range_error("friction.zoneStart", ">= 1", i.zone_start));
-        }
         p.friction.zone_start = (i.zone_start - 1) as usize;
-        if i.zone_bodies < 0 {
-            return Err(range_error("friction.zoneBodies", ">= 0", i.zone_bodies));
-        }
         p.friction.zone_bodies = i.zone_bodies as usize;
-        if i.probe_body < 1 || i.probe_body > i.n_bodies {
+        if i.probe_body > i.n_bodies {
             return Err(range_error(
                 "probe.body",
                 &format!("in 1..={}", i.n_bodies),
@@ -79,9 +89,6 @@ impl BeltDrive {
                 i.method,
             )
         })?;
-        if i.max_steps < 1 {
-            return Err(range_error("solver.maxSteps", ">= 1", i.max_steps));
-        }
         p.solver.max_steps = i.max_steps as u64;
         Ok(p)
     }
@@ -246,16 +253,7 @@ impl FmuModel for BeltDrive {
             .resize(MAX_PULLEYS, PulleyParams::paper_5pk(0.0, 0.0));
         let mut model = Self {
             params,
-            ints: IntegerParams {
-                n_pulleys: 2,
-                n_bodies: 150,
-                friction_law: 2,
-                zone_start: 1,
-                zone_bodies: 0,
-                probe_body: 108,
-                method: 1,
-                max_steps: 100_000,
-            },
+            ints: IntegerParams::default(),
             inputs: Inputs::default(),
             start_time: 0.0,
             drive: None,
@@ -600,5 +598,60 @@ mod snapshot {
             return Err(format!("model state has {} trailing bytes", r.0.len()));
         }
         Ok(m)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::belt::params::MAX_BODIES;
+
+    /// The ranges the model description shows importers are the core's.
+    #[test]
+    fn declared_ranges_match_the_core() {
+        let n = info(Var::NPulleys);
+        assert_eq!((n.min, n.max), (Some(2.0), Some(MAX_PULLEYS as f64)));
+        let b = info(Var::BeltNBodies);
+        assert_eq!((b.min, b.max), (Some(3.0), Some(MAX_BODIES as f64)));
+        assert_eq!(
+            (info(Var::SolverMethod).min, info(Var::SolverMethod).max),
+            (Some(1.0), Some(2.0))
+        );
+    }
+
+    /// A fresh model holds every start value of the model description.
+    #[test]
+    fn start_values_are_the_defaults() {
+        let mut m = BeltDrive::new();
+        for v in VARIABLES {
+            match v.start {
+                Start::Real(x) => assert_eq!(m.get_real(v).unwrap(), x, "{}", v.name),
+                Start::Integer(x) => assert_eq!(m.get_integer(v).unwrap(), x, "{}", v.name),
+                Start::Boolean(x) => assert_eq!(m.get_boolean(v).unwrap(), x, "{}", v.name),
+                _ => {}
+            }
+        }
+    }
+
+    #[test]
+    fn integer_ranges_come_from_the_table() {
+        let mut m = BeltDrive::new();
+        m.set_integer(info(Var::NPulleys), 7).unwrap();
+        assert_eq!(
+            m.drive_params().unwrap_err(),
+            "nPulleys must be in 2..=6 (got 7)"
+        );
+        let mut m = BeltDrive::new();
+        m.set_integer(info(Var::FrictionZoneBodies), -1).unwrap();
+        assert_eq!(
+            m.drive_params().unwrap_err(),
+            "friction.zoneBodies must be >= 0 (got -1)"
+        );
+        let mut m = BeltDrive::new();
+        m.set_integer(info(Var::ProbeBody), 151).unwrap();
+        assert_eq!(
+            m.drive_params().unwrap_err(),
+            "probe.body must be in 1..=150 (got 151)"
+        );
     }
 }
