@@ -13,6 +13,8 @@
 //! * [`platform`]: where the binary goes in the FMU archive;
 //! * [`ssv`]: SSP parameter sets.
 
+#![warn(missing_docs)]
+
 mod check;
 mod generate;
 pub mod guid;
@@ -27,6 +29,7 @@ pub use parse::{parse, LogCategory, ModelDescription, SimpleType, Unit, Unknown,
 /// A checked model description ready to be packaged.
 #[derive(Clone, Debug)]
 pub struct Compiled {
+    /// The parsed and checked description.
     pub description: ModelDescription,
     /// The GUID hashed from the source text.
     pub guid: String,

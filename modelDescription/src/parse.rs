@@ -8,23 +8,32 @@ use quick_xml::Reader;
 /// What the project uses of an FMI 2.0 model description, in document order.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ModelDescription {
+    /// `fmiVersion`.
     pub fmi_version: String,
+    /// `modelName`.
     pub model_name: String,
     /// The `guid` attribute as written (the `@GUID@` placeholder in the
     /// source file, see [`crate::guid`]).
     pub guid_attr: String,
+    /// `description` (empty if absent).
     pub description: String,
+    /// `version` (empty if absent).
     pub version: String,
+    /// `license` (empty if absent).
     pub license: String,
     /// `modelIdentifier` of `<CoSimulation>`; `None` if there is no such element.
     pub model_identifier: Option<String>,
     /// Every attribute of `<CoSimulation>` (capability flags), in document order.
     pub co_simulation: Vec<(String, String)>,
+    /// `<UnitDefinitions>`.
     pub units: Vec<Unit>,
+    /// `<TypeDefinitions>`.
     pub types: Vec<SimpleType>,
+    /// `<LogCategories>`.
     pub log_categories: Vec<LogCategory>,
     /// Every attribute of `<DefaultExperiment>`, in document order.
     pub default_experiment: Vec<(String, String)>,
+    /// `<ModelVariables>`.
     pub variables: Vec<Variable>,
     /// `<ModelStructure><Outputs>`.
     pub outputs: Vec<Unknown>,
@@ -35,7 +44,9 @@ pub struct ModelDescription {
 /// A `<Unit>` of `<UnitDefinitions>`.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Unit {
+    /// Line of the element (1-based).
     pub line: usize,
+    /// `name`.
     pub name: String,
     /// `<DisplayUnit>`s as (name, factor).
     pub display_units: Vec<(String, f64)>,
@@ -44,48 +55,66 @@ pub struct Unit {
 /// A `<SimpleType>` of `<TypeDefinitions>`.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SimpleType {
+    /// Line of the element (1-based).
     pub line: usize,
+    /// `name`.
     pub name: String,
     /// Element inside it: `Real`, `Integer`, `Boolean`, `String`, `Enumeration`.
     pub ty: String,
+    /// `quantity`.
     pub quantity: Option<String>,
+    /// `unit`.
     pub unit: Option<String>,
+    /// `displayUnit`.
     pub display_unit: Option<String>,
 }
 
 /// A `<Category>` of `<LogCategories>`.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct LogCategory {
+    /// Line of the element (1-based).
     pub line: usize,
+    /// `name`.
     pub name: String,
+    /// `description` (empty if absent).
     pub description: String,
 }
 
 /// A `<ScalarVariable>` with its type element.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Variable {
+    /// Line of the element (1-based).
     pub line: usize,
+    /// `name`.
     pub name: String,
+    /// `valueReference`.
     pub vr: u32,
+    /// `description` (empty if absent).
     pub description: String,
     /// As written, or the default `local`.
     pub causality: String,
     /// As written, or the default `continuous`.
     pub variability: String,
+    /// `initial`, if written.
     pub initial: Option<String>,
     /// `Real`, `Integer`, `Boolean`, `String` (or whatever element was found).
     pub ty: String,
+    /// `declaredType`.
     pub declared_type: Option<String>,
     /// The variable's own `unit` attribute (see [`ModelDescription::unit_of`]).
     pub unit: Option<String>,
+    /// `start`, as written.
     pub start: Option<String>,
+    /// `min`, as written.
     pub min: Option<String>,
+    /// `max`, as written.
     pub max: Option<String>,
 }
 
 /// An `<Unknown>` of the model structure.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Unknown {
+    /// Line of the element (1-based).
     pub line: usize,
     /// 1-based position of the variable in `<ModelVariables>`.
     pub index: usize,

@@ -7,6 +7,7 @@ use quick_xml::Reader;
 /// One `<ssv:Parameter>` of a parameter set.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Parameter {
+    /// The parameter's (variable's) name.
     pub name: String,
     /// `Real`, `Integer`, `Boolean`, `String` or `Enumeration` (the element
     /// inside `<ssv:Parameter>`, without its namespace prefix).

@@ -108,10 +108,12 @@ unsafe fn string<'a>(p: *const c_char, what: &str) -> Result<&'a str, String> {
         .map_err(|_| format!("{what} is not valid UTF-8"))
 }
 
+/// fmi2GetTypesPlatform: `"default"` (the standard C types).
 pub fn get_types_platform() -> Fmi2String {
     c"default".as_ptr()
 }
 
+/// fmi2GetVersion: `"2.0"`.
 pub fn get_version() -> Fmi2String {
     c"2.0".as_ptr()
 }
@@ -273,9 +275,13 @@ pub unsafe fn setup_experiment<M: FmuModel>(
 /// Life-cycle functions without arguments.
 #[derive(Clone, Copy)]
 pub enum Transition {
+    /// fmi2EnterInitializationMode.
     EnterInitializationMode,
+    /// fmi2ExitInitializationMode.
     ExitInitializationMode,
+    /// fmi2Terminate.
     Terminate,
+    /// fmi2Reset.
     Reset,
 }
 
@@ -700,7 +706,9 @@ pub unsafe fn cancel_step<M: FmuModel>(c: Fmi2Component) -> Fmi2Status {
 
 /// Status information that an fmi2GetXXXStatus call can deliver.
 pub enum StatusValue {
+    /// `fmi2LastSuccessfulTime`: the current communication point.
     LastSuccessfulTime(f64),
+    /// `fmi2Terminated`: whether the model asks to stop.
     Terminated(bool),
 }
 

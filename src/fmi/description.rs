@@ -7,40 +7,60 @@
 /// FMI 2.0 base type of a variable.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum VarType {
+    /// FMI `Real` (f64).
     Real,
+    /// FMI `Integer` (i32).
     Integer,
+    /// FMI `Boolean`.
     Boolean,
+    /// FMI `String`.
     String,
 }
 
 /// FMI 2.0 `causality`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Causality {
+    /// `parameter`: set by the importer before or during initialization (tunable ones also later).
     Parameter,
+    /// `calculatedParameter`: computed from parameters.
     CalculatedParameter,
+    /// `input`: set by the importer at any communication point.
     Input,
+    /// `output`: computed by the model.
     Output,
+    /// `local`: internal.
     Local,
+    /// `independent`: the time.
     Independent,
 }
 
 /// FMI 2.0 `variability`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Variability {
+    /// `constant`: never changes.
     Constant,
+    /// `fixed`: fixed after initialization.
     Fixed,
+    /// `tunable`: may change at communication points.
     Tunable,
+    /// `discrete`: changes at events only.
     Discrete,
+    /// `continuous`: changes continuously (Real only).
     Continuous,
 }
 
 /// The `start` attribute (`None` for calculated variables).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Start {
+    /// No start value (`initial="calculated"`).
     None,
+    /// Start of a Real variable.
     Real(f64),
+    /// Start of an Integer variable.
     Integer(i32),
+    /// Start of a Boolean variable.
     Boolean(bool),
+    /// Start of a String variable.
     String(&'static str),
 }
 
@@ -56,14 +76,19 @@ pub struct VarInfo<K: 'static> {
     pub var: K,
     /// 0-based array index (`pulley[2]` -> 1); 0 for scalars.
     pub index: usize,
+    /// Base type (the element inside `<ScalarVariable>`).
     pub ty: VarType,
+    /// `causality`.
     pub causality: Causality,
+    /// `variability`.
     pub variability: Variability,
+    /// `start`.
     pub start: Start,
     /// `min` of a Real or Integer variable (`None`: unbounded).
     pub min: Option<f64>,
     /// `max` of a Real or Integer variable (`None`: unbounded).
     pub max: Option<f64>,
+    /// `description`.
     pub description: &'static str,
     /// Unit (own or from the declared type); empty if dimensionless.
     pub unit: &'static str,

@@ -25,11 +25,17 @@ use super::types::{Fmi2CallbackFunctions, Fmi2Status};
 
 // Category names used by the plumbing; a model's <LogCategories> must list
 // them all (PLUMBING_CATEGORIES).
+/// State changes and other fmi2OK messages.
 pub const LOG_EVENTS: &str = "logEvents";
+/// Messages with status fmi2Warning.
 pub const LOG_STATUS_WARNING: &str = "logStatusWarning";
+/// Messages with status fmi2Discard.
 pub const LOG_STATUS_DISCARD: &str = "logStatusDiscard";
+/// Messages with status fmi2Error.
 pub const LOG_STATUS_ERROR: &str = "logStatusError";
+/// Messages with status fmi2Fatal.
 pub const LOG_STATUS_FATAL: &str = "logStatusFatal";
+/// Every message, including a trace of each call.
 pub const LOG_ALL: &str = "logAll";
 
 /// Every category the plumbing logs in.
@@ -88,6 +94,7 @@ impl Logger {
         }
     }
 
+    /// The instance name given to fmi2Instantiate.
     pub fn instance_name(&self) -> &CStr {
         &self.instance_name
     }

@@ -12,6 +12,8 @@
 //! * [`exports`]: the macro [`crate::export_fmi2_co_simulation`] that writes
 //!   the `#[no_mangle] extern "C" fn fmi2...` for one model.
 
+#![warn(missing_docs)]
+
 pub mod api;
 pub mod description;
 pub mod exports;

@@ -43,13 +43,19 @@ pub trait FmuModel: Clone + Send + Sized + 'static {
     fn get_real(&mut self, v: &VarInfo<Self::Var>) -> Result<f64, String>;
     /// Set a Real parameter or input.
     fn set_real(&mut self, v: &VarInfo<Self::Var>, value: f64) -> Result<(), String>;
+    /// Value of an Integer variable.
     fn get_integer(&mut self, v: &VarInfo<Self::Var>) -> Result<i32, String>;
+    /// Set an Integer parameter or input.
     fn set_integer(&mut self, v: &VarInfo<Self::Var>, value: i32) -> Result<(), String>;
+    /// Value of a Boolean variable.
     fn get_boolean(&mut self, v: &VarInfo<Self::Var>) -> Result<bool, String>;
+    /// Set a Boolean parameter or input.
     fn set_boolean(&mut self, v: &VarInfo<Self::Var>, value: bool) -> Result<(), String>;
+    /// Value of a String variable (default: the model has none).
     fn get_string(&mut self, v: &VarInfo<Self::Var>) -> Result<String, String> {
         Err(format!("{} is not a String variable", v.name))
     }
+    /// Set a String parameter or input (default: the model has none).
     fn set_string(&mut self, v: &VarInfo<Self::Var>, _value: &str) -> Result<(), String> {
         Err(format!("{} is not a String variable", v.name))
     }

@@ -27,6 +27,7 @@ use std::marker::PhantomData;
 use super::instance::{Mode, Plumbing};
 use super::model::FmuModel;
 
+/// Version of the serialized layout above.
 pub const FORMAT_VERSION: u32 = 1;
 
 /// Marks a live `Snapshot` in memory (a second line of defence behind
@@ -37,11 +38,14 @@ const LIVE_TAG: u64 = 0x464d_5553_5441_5445; // "FMUSTATE"
 #[derive(Clone)]
 pub struct Snapshot<M> {
     tag: u64,
+    /// The plumbing's state at the time of the snapshot.
     pub plumbing: Plumbing,
+    /// A clone of the model.
     pub model: M,
 }
 
 impl<M: FmuModel> Snapshot<M> {
+    /// A live snapshot.
     pub fn new(plumbing: Plumbing, model: M) -> Self {
         Snapshot {
             tag: LIVE_TAG,
@@ -50,6 +54,7 @@ impl<M: FmuModel> Snapshot<M> {
         }
     }
 
+    /// Whether the snapshot has not been freed.
     pub fn is_live(&self) -> bool {
         self.tag == LIVE_TAG
     }
@@ -60,6 +65,7 @@ impl<M: FmuModel> Snapshot<M> {
         self.tag = 0;
     }
 
+    /// The serialized bytes (layout in the module documentation).
     pub fn serialize(&self) -> Vec<u8> {
         let mut model = Vec::new();
         self.model.serialize(&mut model);
@@ -81,6 +87,7 @@ impl<M: FmuModel> Snapshot<M> {
         out
     }
 
+    /// A snapshot from [`Snapshot::serialize`] bytes; `Err` says what is wrong with them.
     pub fn deserialize(bytes: &[u8]) -> Result<Self, String> {
         let mut r = Reader { bytes, pos: 0 };
         let description = M::description();
@@ -201,10 +208,12 @@ impl<M: FmuModel> Registry<M> {
         Ok(())
     }
 
+    /// Number of live states.
     pub fn len(&self) -> usize {
         self.live.len()
     }
 
+    /// Whether no state is live.
     pub fn is_empty(&self) -> bool {
         self.live.is_empty()
     }
