@@ -92,4 +92,46 @@ mod tests {
         let twice = source.replacen("<!--", "<!-- @GUID@", 1);
         assert!(compile(&twice).unwrap_err().contains("exactly once"));
     }
+
+    /// Damaged copies of the project's description (bytes cut out,
+    /// duplicated or flipped; deterministic pseudo-random positions) are
+    /// refused or accepted, never a panic.
+    #[test]
+    fn damaged_descriptions_never_panic() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/modelDescription.xml");
+        let source = std::fs::read(path).unwrap();
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = |n: usize| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state % n as u64) as usize
+        };
+        let (mut refused, mut accepted) = (0, 0);
+        for round in 0..300 {
+            let mut bytes = source.clone();
+            let at = next(bytes.len());
+            let len = 1 + next(40);
+            match round % 3 {
+                0 => drop(bytes.drain(at..(at + len).min(bytes.len()))),
+                1 => {
+                    let piece = bytes[at..(at + len).min(bytes.len())].to_vec();
+                    bytes.splice(at..at, piece);
+                }
+                _ => bytes[at] ^= 1 << next(7),
+            }
+            let text = String::from_utf8_lossy(&bytes);
+            let result = std::panic::catch_unwind(|| compile(&text).map(|_| ()));
+            match result.expect("compile panicked") {
+                Ok(()) => accepted += 1,
+                Err(e) => {
+                    assert!(!e.is_empty());
+                    refused += 1;
+                }
+            }
+        }
+        // Most damage must be caught (a cut inside a description or a
+        // comment is harmless, so not all of it).
+        assert!(refused > 150, "refused {refused}, accepted {accepted}");
+    }
 }

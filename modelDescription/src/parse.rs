@@ -160,6 +160,26 @@ fn line_of(xml: &str, pos: u64) -> usize {
         + 1
 }
 
+/// Line numbers of increasing byte offsets, counted incrementally.
+struct Lines<'a> {
+    xml: &'a str,
+    pos: usize,
+    line: usize,
+}
+
+impl Lines<'_> {
+    /// Line of `pos` (not before the previous call's).
+    fn at(&mut self, pos: usize) -> usize {
+        let pos = pos.clamp(self.pos, self.xml.len());
+        self.line += self.xml.as_bytes()[self.pos..pos]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count();
+        self.pos = pos;
+        self.line
+    }
+}
+
 /// The attributes of one element, with the line for messages.
 struct Attrs {
     line: usize,
@@ -220,6 +240,11 @@ pub fn parse(xml: &str) -> Result<ModelDescription, String> {
     let mut stack: Vec<String> = Vec::new();
     let mut current: Option<Variable> = None;
     let mut root_seen = false;
+    let mut lines = Lines {
+        xml,
+        pos: 0,
+        line: 1,
+    };
 
     loop {
         let pos = reader.buffer_position();
@@ -233,7 +258,7 @@ pub fn parse(xml: &str) -> Result<ModelDescription, String> {
         // whitespace that trim_text dropped to reach the element's `<`.
         let start = usize::try_from(pos).unwrap_or(usize::MAX).min(xml.len());
         let skipped = xml[start..].len() - xml[start..].trim_start().len();
-        let line = line_of(xml, (start + skipped) as u64);
+        let line = lines.at(start + skipped);
         let (elem, is_empty) = match &event {
             Event::Start(e) => (e, false),
             Event::Empty(e) => (e, true),
