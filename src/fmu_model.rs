@@ -8,7 +8,7 @@ use crate::belt::params::{FrictionLaw, Method, PulleyParams, MAX_PULLEYS};
 use crate::belt::rkf45::Stats;
 use crate::belt::{Drive, DriveParams, Inputs};
 use crate::fmi::{FmuModel, ModelDescription, StepError};
-use crate::variables::{Start, Var, VarInfo, MODEL_DESCRIPTION, VARIABLES};
+use crate::variables::{Start, Var, VarInfo, VarType, MODEL_DESCRIPTION, VARIABLES};
 
 /// Integer parameters as the user set them; checked against the ranges of
 /// the model description when the drive is built, so the message can name
@@ -40,12 +40,55 @@ fn range_error(name: &str, allowed: &str, got: impl std::fmt::Display) -> String
     format!("{name} must be {allowed} (got {got})")
 }
 
-/// The scalar variable `var` of the model description.
-fn info(var: Var) -> &'static VarInfo {
-    VARIABLES
-        .iter()
-        .find(|v| v.var == var)
-        .expect("every Integer parameter is in the generated table")
+/// The field behind a Real parameter (every pulley slot, used or not).
+fn real_slot<'a>(p: &'a mut DriveParams, v: &VarInfo) -> Option<&'a mut f64> {
+    let j = v.index;
+    Some(match v.var {
+        Var::BeltPreload => &mut p.belt.preload,
+        Var::BeltEA => &mut p.belt.ea,
+        Var::BeltAxialDamping => &mut p.belt.axial_damping,
+        Var::BeltBendingStiffness => &mut p.belt.bending_stiffness,
+        Var::BeltBendingDamping => &mut p.belt.bending_damping,
+        Var::BeltMassPerLength => &mut p.belt.mass_per_length,
+        Var::Gravity => &mut p.gravity,
+        Var::ContactC1 => &mut p.contact.c1,
+        Var::ContactC2 => &mut p.contact.c2,
+        Var::ContactDamping => &mut p.contact.damping,
+        Var::ContactPMax => &mut p.contact.p_max,
+        Var::FrictionDv => &mut p.friction.dv,
+        Var::FrictionCreepMax => &mut p.friction.creep_max,
+        Var::FrictionCreepDampingTime => &mut p.friction.creep_damping_time,
+        Var::FrictionZoneFactor => &mut p.friction.zone_factor,
+        Var::SolverRelTol => &mut p.solver.rel_tol,
+        Var::SolverAbsTol => &mut p.solver.abs_tol,
+        Var::SolverInitialStep => &mut p.solver.initial_step,
+        Var::PulleyX => &mut p.pulleys[j].x,
+        Var::PulleyY => &mut p.pulleys[j].y,
+        Var::PulleyRadius => &mut p.pulleys[j].radius,
+        Var::PulleyInertia => &mut p.pulleys[j].inertia,
+        Var::PulleyMuStatic => &mut p.pulleys[j].mu_static,
+        Var::PulleyMuKinetic => &mut p.pulleys[j].mu_kinetic,
+        Var::PulleyLoadDamping => &mut p.pulleys[j].load_damping,
+        Var::PulleyTorqueRamp => &mut p.pulleys[j].torque_ramp,
+        Var::PulleyOmegaRamp => &mut p.pulleys[j].omega_ramp,
+        Var::PulleyRampTime => &mut p.pulleys[j].ramp_time,
+        _ => return None,
+    })
+}
+
+/// The field behind an Integer parameter.
+fn int_slot<'a>(i: &'a mut IntegerParams, v: &VarInfo) -> Option<&'a mut i32> {
+    Some(match v.var {
+        Var::NPulleys => &mut i.n_pulleys,
+        Var::BeltNBodies => &mut i.n_bodies,
+        Var::FrictionLaw => &mut i.friction_law,
+        Var::FrictionZoneStart => &mut i.zone_start,
+        Var::FrictionZoneBodies => &mut i.zone_bodies,
+        Var::ProbeBody => &mut i.probe_body,
+        Var::SolverMethod => &mut i.method,
+        Var::SolverMaxSteps => &mut i.max_steps,
+        _ => return None,
+    })
 }
 
 impl BeltDrive {
@@ -53,20 +96,23 @@ impl BeltDrive {
     /// (public for tests that compare parameter sets with `DriveParams`).
     pub fn drive_params(&self) -> Result<DriveParams, String> {
         let i = &self.ints;
-        // min/max of the model description, the ranges importers are shown.
-        for (var, x) in [
-            (Var::NPulleys, i.n_pulleys),
-            (Var::BeltNBodies, i.n_bodies),
-            (Var::FrictionLaw, i.friction_law),
-            (Var::FrictionZoneStart, i.zone_start),
-            (Var::FrictionZoneBodies, i.zone_bodies),
-            (Var::ProbeBody, i.probe_body),
-            (Var::SolverMethod, i.method),
-            (Var::SolverMaxSteps, i.max_steps),
-        ] {
-            info(var).check_range(f64::from(x))?;
-        }
         let mut p = self.params.clone();
+        // Every min/max of the model description (the ranges importers are
+        // shown), in XML order; for all pulley slots, used or not.
+        let mut ints = i.clone();
+        for v in VARIABLES
+            .iter()
+            .filter(|v| v.min.is_some() || v.max.is_some())
+        {
+            let x = match v.ty {
+                VarType::Real => real_slot(&mut p, v).map(|x| *x),
+                VarType::Integer => int_slot(&mut ints, v).map(|&mut x| f64::from(x)),
+                _ => None,
+            };
+            if let Some(x) = x {
+                v.check_range(x)?;
+            }
+        }
         p.pulleys.truncate(i.n_pulleys as usize);
         p.belt.n_bodies = i.n_bodies as usize;
         p.friction.law = FrictionLaw::from_code(i.friction_law).ok_or_else(|| {
@@ -126,54 +172,11 @@ impl BeltDrive {
     }
 
     fn real_param(&mut self, v: &VarInfo) -> Option<&mut f64> {
-        let p = &mut self.params;
-        let j = v.index;
-        Some(match v.var {
-            Var::BeltPreload => &mut p.belt.preload,
-            Var::BeltEA => &mut p.belt.ea,
-            Var::BeltAxialDamping => &mut p.belt.axial_damping,
-            Var::BeltBendingStiffness => &mut p.belt.bending_stiffness,
-            Var::BeltBendingDamping => &mut p.belt.bending_damping,
-            Var::BeltMassPerLength => &mut p.belt.mass_per_length,
-            Var::Gravity => &mut p.gravity,
-            Var::ContactC1 => &mut p.contact.c1,
-            Var::ContactC2 => &mut p.contact.c2,
-            Var::ContactDamping => &mut p.contact.damping,
-            Var::ContactPMax => &mut p.contact.p_max,
-            Var::FrictionDv => &mut p.friction.dv,
-            Var::FrictionCreepMax => &mut p.friction.creep_max,
-            Var::FrictionCreepDampingTime => &mut p.friction.creep_damping_time,
-            Var::FrictionZoneFactor => &mut p.friction.zone_factor,
-            Var::SolverRelTol => &mut p.solver.rel_tol,
-            Var::SolverAbsTol => &mut p.solver.abs_tol,
-            Var::SolverInitialStep => &mut p.solver.initial_step,
-            Var::PulleyX => &mut p.pulleys[j].x,
-            Var::PulleyY => &mut p.pulleys[j].y,
-            Var::PulleyRadius => &mut p.pulleys[j].radius,
-            Var::PulleyInertia => &mut p.pulleys[j].inertia,
-            Var::PulleyMuStatic => &mut p.pulleys[j].mu_static,
-            Var::PulleyMuKinetic => &mut p.pulleys[j].mu_kinetic,
-            Var::PulleyLoadDamping => &mut p.pulleys[j].load_damping,
-            Var::PulleyTorqueRamp => &mut p.pulleys[j].torque_ramp,
-            Var::PulleyOmegaRamp => &mut p.pulleys[j].omega_ramp,
-            Var::PulleyRampTime => &mut p.pulleys[j].ramp_time,
-            _ => return None,
-        })
+        real_slot(&mut self.params, v)
     }
 
     fn int_param(&mut self, v: &VarInfo) -> Option<&mut i32> {
-        let i = &mut self.ints;
-        Some(match v.var {
-            Var::NPulleys => &mut i.n_pulleys,
-            Var::BeltNBodies => &mut i.n_bodies,
-            Var::FrictionLaw => &mut i.friction_law,
-            Var::FrictionZoneStart => &mut i.zone_start,
-            Var::FrictionZoneBodies => &mut i.zone_bodies,
-            Var::ProbeBody => &mut i.probe_body,
-            Var::SolverMethod => &mut i.method,
-            Var::SolverMaxSteps => &mut i.max_steps,
-            _ => return None,
-        })
+        int_slot(&mut self.ints, v)
     }
 
     fn bool_param(&mut self, v: &VarInfo) -> Option<&mut bool> {
@@ -605,6 +608,12 @@ mod snapshot {
 mod tests {
     use super::*;
     use crate::belt::params::MAX_BODIES;
+    use crate::variables::{by_name, Causality};
+
+    /// The scalar variable `var` of the model description.
+    fn info(var: Var) -> &'static VarInfo {
+        VARIABLES.iter().find(|v| v.var == var).unwrap()
+    }
 
     /// The ranges the model description shows importers are the core's.
     #[test]
@@ -653,5 +662,35 @@ mod tests {
             m.drive_params().unwrap_err(),
             "probe.body must be in 1..=150 (got 151)"
         );
+    }
+
+    /// Every declared bound of every parameter is enforced: a value just
+    /// outside it is refused with the variable's name.
+    #[test]
+    fn every_declared_range_is_checked() {
+        let bounded = VARIABLES
+            .iter()
+            .filter(|v| v.causality == Causality::Parameter)
+            .filter(|v| v.min.is_some() || v.max.is_some());
+        let mut n = 0;
+        for v in bounded {
+            for (bound, step) in [(v.min, -1.0), (v.max, 1.0)] {
+                let Some(b) = bound else { continue };
+                let outside = match v.ty {
+                    VarType::Integer => b + step,
+                    _ => b + step * b.abs().max(1.0) * 1e-6,
+                };
+                let mut m = BeltDrive::new();
+                match v.ty {
+                    VarType::Integer => m.set_integer(v, outside as i32).unwrap(),
+                    _ => m.set_real(v, outside).unwrap(),
+                }
+                let e = m.drive_params().unwrap_err();
+                assert!(e.starts_with(&format!("{} must be", v.name)), "{e}");
+                n += 1;
+            }
+        }
+        assert!(n >= 11, "{n} bounds checked");
+        assert!(by_name("nPulleys").unwrap().max.is_some());
     }
 }
