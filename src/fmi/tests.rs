@@ -933,3 +933,32 @@ fn serialization_round_trip_and_refusals() {
     assert_eq!(unsafe { api::free_fmu_state::<Mock>(f.c, &mut s) }, OK);
     assert_eq!(unsafe { api::free_fmu_state::<Mock>(g.c, &mut s2) }, OK);
 }
+
+/// The plumbing reaches no other part of the crate: every `crate::` path
+/// in `src/fmi/` stays inside `crate::fmi` (the model comes in through
+/// `FmuModel` only).
+#[test]
+fn plumbing_depends_on_no_model() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src/fmi");
+    let mut files = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_none_or(|e| e != "rs") || path.ends_with("tests.rs") {
+            continue;
+        }
+        files += 1;
+        let text = std::fs::read_to_string(&path).unwrap();
+        for (i, line) in text.lines().enumerate() {
+            for (at, _) in line.match_indices("crate::") {
+                let rest = &line[at + "crate::".len()..];
+                assert!(
+                    rest.starts_with("fmi") || rest.starts_with("export_fmi2_co_simulation"),
+                    "{}:{}: {line}",
+                    path.display(),
+                    i + 1
+                );
+            }
+        }
+    }
+    assert!(files >= 9, "{files} files read");
+}
