@@ -104,8 +104,16 @@ def run_study(study_path, scheduler=None, workers=None, out_dir=None, fmu=None,
             log(f"Dask scheduler {client.scheduler.address}, {n_workers} workers")
             fmu_name = runner.fmu_upload_name(study.fmu, sha)
             shutil.copyfile(study.fmu, tmp / fmu_name)
-            client.upload_file(str(_package_zip(tmp)))
-            client.upload_file(str(tmp / fmu_name))
+            # Worker plugins: workers that join later get them too. A remote
+            # scheduler unpickles the tasks, so it gets the package as well;
+            # a local cluster's scheduler is this process, which has it.
+            from distributed.diagnostics.plugin import SchedulerUploadFile, UploadFile
+            pkg = str(_package_zip(tmp))
+            if cluster is None:
+                client.register_plugin(SchedulerUploadFile(pkg), name="beltdrive-package")
+            client.register_plugin(UploadFile(pkg), name="beltdrive-package")
+            client.register_plugin(UploadFile(str(tmp / fmu_name), load=False),
+                                   name=f"beltdrive-fmu-{sha[:16]}")
             futures = client.map(runner.run_one, todo, fmu_name=fmu_name,
                                  key=[f"beltdrive-run-{r['key']}" for r in todo], pure=False)
             bar = _progress(len(todo)) if progress else None
