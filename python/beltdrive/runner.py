@@ -111,17 +111,21 @@ def run_one(spec: dict, fmu_name: str) -> dict:
     try:
         unzipdir, md = extracted(fmu_name, spec["fmu_sha256"])
         outputs = sorted({r[0] for r in spec["results"]} | set(spec["series"]))
-        last = [None, 0]
+        exp = md.defaultExperiment
+        last = [float(exp.startTime) if exp is not None and exp.startTime else 0.0]
 
         def step_finished(t, recorder):
-            # FMPy retries a discarded step forever when the FMU does not
-            # terminate: stop when time has not moved for two calls.
-            last[1] = last[1] + 1 if t == last[0] else 0
+            # After a discarded step FMPy stays at the same time and would
+            # retry it: time not advancing means a discard, stop there.
+            moved = t != last[0]
             last[0] = t
-            return last[1] < 2
+            return moved
 
         fmu = instantiate_fmu(unzipdir, md, logger=logger)
         try:
+            # Errors are always logged; warnings and discards (the reason a
+            # step failed) only in these categories.
+            fmu.setDebugLogging(True, ["logStatusWarning", "logStatusDiscard"])
             res = simulate_fmu(unzipdir, model_description=md, fmu_instance=fmu,
                                start_values=start_values(spec),
                                input=input_signals(spec["inputs"], spec["stop_time"],

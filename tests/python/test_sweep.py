@@ -57,6 +57,11 @@ out = "{out}"
 method = 2
 relTol = 1e-4
 
+[[fixed]]
+name = "gravity"
+unit = "m/s2"
+value = 0.0
+
 [design]
 type = "list"
 
@@ -105,7 +110,7 @@ def reference(fmu_path, preload, damping, n_bodies):
     start = {p.name: {"Real": float, "Integer": int,
                       "Boolean": lambda s: s.strip() in ("true", "1")}[p.type](p.value)
              for p in read_ssv(str(SSV)).parameters}
-    start.update({"solver.method": 2, "solver.relTol": 1e-4, "belt.preload": preload,
+    start.update({"solver.method": 2, "solver.relTol": 1e-4, "gravity": 0.0, "belt.preload": preload,
                   "pulley[3].loadDamping": damping, "belt.nBodies": n_bodies,
                   "pulley[4].torque": 0.0})
     n = int(round(STOP / DT))
@@ -170,6 +175,22 @@ def test_refused_parameter_set_is_a_failed_row(local_study):
     assert np.isnan(row["mean(pulley[3].slip)"])
     assert summary["failed"] == 1
     assert (table["status"] == "ok").sum() == len(POINTS) - 1
+
+
+def test_discarded_step_is_a_failed_row(fmu_path, tmp_path):
+    """The function the workers run, here in this process: a step the FMU
+    discards (its step-count guard, solver.maxSteps = 3) ends the run as a
+    failed row carrying the FMU's discard message."""
+    from beltdrive.runner import run_one, sha256_file
+    path = tmp_path / "study.toml"
+    path.write_text(study_text(fmu_path, points=[(450.0, 0.0143239, 160)], series=False)
+                    .replace("relTol = 1e-4", "relTol = 1e-4\nmaxSteps = 3"))
+    spec = S.load(path).runs(sha256_file(fmu_path))[0]
+    row = run_one(spec, fmu_path)
+    assert row["status"] == "failed"
+    assert "stopped at t = 0 s" in row["message"], row["message"]
+    assert "[Discard]" in row["message"] and "solver.maxSteps" in row["message"], row["message"]
+    assert np.isnan(row["mean(pulley[3].slip)"])
 
 
 def test_interrupted_study_resumes_without_rerunning(fmu_path, tmp_path):
