@@ -204,6 +204,10 @@ def main(argv=None):
     except StudyError as e:
         print(f"study error: {e}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        print("interrupted: the finished runs are stored; run the same command again to "
+              "resume", file=sys.stderr)
+        return 130
     if a.figure:
         summary = pathlib.Path(s["results"]).parent / "plots" / "summary.png"
         a.figure.parent.mkdir(parents=True, exist_ok=True)
