@@ -355,3 +355,26 @@ def test_bad_study_is_refused_naming_the_entry(tmp_path, fmu_path, entry, words)
         _load(tmp_path, fmu_path, entry)
     for w in words:
         assert w in str(e.value), str(e.value)
+
+
+@pytest.mark.parametrize("design", ["lhs", "grid1"])
+def test_plots_of_other_designs(tmp_path, fmu_path, design):
+    """Plots of a two-parameter Latin hypercube (scatter map) and of a
+    one-parameter grid, from a made-up table with a failed row."""
+    from beltdrive.plots import plot_study
+    if design == "lhs":
+        st = _load(tmp_path, fmu_path, '[design]\ntype = "lhs"\nsamples = 6\nseed = 1\n'
+                   '[[parameter]]\nname = "belt.preload"\nunit = "N"\nlow = 300.0\nhigh = 600.0\n'
+                   '[[parameter]]\nname = "pulley[1].radius"\nunit = "m"\nlow = 0.02\nhigh = 0.04\n')
+    else:
+        st = _load(tmp_path, fmu_path, '[[parameter]]\nname = "belt.preload"\nunit = "N"\n'
+                   'values = [300.0, 400.0, 500.0, 600.0]\n')
+    table = pd.DataFrame(st.points())
+    table["min(belt.minTension)"] = np.linspace(100.0, 200.0, len(table))
+    table["mean(belt.minTension)"] = np.linspace(150.0, 250.0, len(table))
+    table["max(belt.minTension)"] = np.linspace(200.0, 300.0, len(table))
+    table["status"] = ["ok"] * (len(table) - 1) + ["failed"]
+    paths = plot_study(st, table, tmp_path / "plots")
+    assert [p.name for p in paths] == ["mean_belt.minTension_.png", "min_belt.minTension_.png",
+                                       "max_belt.minTension_.png", "summary.png"]
+    assert all(p.stat().st_size > 1000 for p in paths)
