@@ -182,6 +182,21 @@ fn validate(args: &[String]) -> Result<()> {
     )
 }
 
+/// `cargo xtask sweep -- STUDY.toml [--scheduler ADDR] [--workers N] ...`:
+/// a parameter study on Dask (python/beltdrive, docs/sweeps.md).
+fn sweep(args: &[String]) -> Result<()> {
+    let args = args.strip_prefix(&["--".to_string()]).unwrap_or(args);
+    fmu()?;
+    venv()?;
+    run(
+        Command::new(venv_python())
+            .args(["-m", "beltdrive.sweep"])
+            .args(args)
+            .env("PYTHONPATH", root().join("python")),
+        "parameter study",
+    )
+}
+
 fn test() -> Result<()> {
     run(
         cargo().args(["fmt", "--all", "--", "--check"]),
@@ -271,8 +286,9 @@ fn main() {
         Some("test") => test(),
         Some("valgrind") => valgrind(),
         Some("bench") => bench::bench(&args[1..]),
+        Some("sweep") => sweep(&args[1..]),
         _ => Err(
-            "usage: cargo xtask <fmu|venv|run|validate|crosscheck|fmi-sim|test|valgrind|bench>"
+            "usage: cargo xtask <fmu|venv|run|validate|crosscheck|fmi-sim|test|valgrind|bench|sweep>"
                 .into(),
         ),
     };
