@@ -5,6 +5,8 @@
 //!   It knows nothing about FMI.
 //! * [`fmi`] is the FMI 2.0 plumbing (C ABI, state machine, logging, FMU
 //!   state). It knows nothing about belts beyond the [`fmi::FmuModel`] trait.
+//! * `modes` (feature `modes`): modal analysis from the analytic Jacobian
+//!   (docs/modes.md).
 //! * [`fmu_model`] connects the two: it maps the variables of
 //!   `modelDescription/modelDescription.xml` onto the core's parameters,
 //!   inputs and outputs.
@@ -12,4 +14,6 @@
 pub mod belt;
 pub mod fmi;
 pub mod fmu_model;
+#[cfg(feature = "modes")]
+pub mod modes;
 pub mod variables;
