@@ -153,3 +153,17 @@ pub fn set_state(drive: &mut Drive, y: &[f64]) -> Result<(), String> {
         ))
     }
 }
+
+/// Tension of the middle element of every free span (span k from pulley k
+/// to pulley k+1) [N], and the mean speed of the belt bodies [m/s].
+pub fn span_tensions_and_speed(drive: &mut Drive) -> (Vec<f64>, f64) {
+    let np = drive.params().pulleys.len();
+    let o = drive.outputs();
+    let y = drive.state();
+    let n = drive.system().n;
+    let v = (0..n)
+        .map(|i| y[BODY_DOF * i + 3].hypot(y[BODY_DOF * i + 4]))
+        .sum::<f64>()
+        / n as f64;
+    (o.span_tension[..np].to_vec(), v)
+}

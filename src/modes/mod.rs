@@ -7,7 +7,7 @@
 //!   perturbations seen at fixed places along the belt path (each body's
 //!   position and velocity in its own tangent/normal frame, plus the
 //!   transport of the belt past those places, `-(1/P) D`, P the time the
-//!   belt takes to advance one body, D the spectral derivative along the
+//!   belt takes to advance one body, D the centred difference along the
 //!   body index). This is the average (first-order Floquet) generator of the
 //!   time-periodic linearisation of a discrete belt in steady motion; it
 //!   freezes which bodies touch which pulley at that instant.
@@ -26,7 +26,7 @@ pub mod params;
 use adapter::Linearisation;
 use faer::linalg::solvers::Eigen;
 use faer::Mat;
-use std::f64::consts::{PI, TAU};
+use std::f64::consts::TAU;
 
 /// Options of one analysis.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -63,6 +63,10 @@ pub enum Part {
     Arm(usize),
     /// Bodies rotating against their neighbours: an artefact of the discrete belt.
     BeltPitching,
+    /// The belt running round with all free pulleys in phase, held only by
+    /// the polygon (cogging) potential of the discrete chain (artefact,
+    /// vanishes as the body length squared).
+    RigidRotation,
     /// Bodies on pulley j's wrap bouncing on the penalty contact (artefact).
     WrapRadial(usize),
     /// Bodies on pulley j's wrap on the creep spring of the friction law (artefact).
@@ -74,7 +78,10 @@ impl Part {
     pub fn artificial(self) -> bool {
         matches!(
             self,
-            Self::BeltPitching | Self::WrapRadial(_) | Self::WrapTangential(_)
+            Self::BeltPitching
+                | Self::RigidRotation
+                | Self::WrapRadial(_)
+                | Self::WrapTangential(_)
         )
     }
 
@@ -85,6 +92,7 @@ impl Part {
             Self::PulleyRotation(j) => format!("pulley {j} rotation"),
             Self::Arm(j) => format!("arm {j}"),
             Self::BeltPitching => "belt pitching".into(),
+            Self::RigidRotation => "belt pitching (rigid rotation on the polygon)".into(),
             Self::WrapRadial(j) => format!("belt pitching (wrap {j} radial contact)"),
             Self::WrapTangential(j) => format!("belt pitching (wrap {j} tangential creep)"),
         }
@@ -163,19 +171,17 @@ pub fn regions(lin: &Linearisation) -> Vec<Region> {
         .collect()
 }
 
-/// Spectral derivative along a periodic index of `n` points, spacing 1:
-/// entry (i, j) (Trefethen, Spectral Methods in MATLAB, ch. 3).
-fn spectral_derivative(n: usize, i: usize, j: usize) -> f64 {
-    if i == j {
-        return 0.0;
-    }
-    let d = i as f64 - j as f64;
-    let sign = if (i + n - j) % 2 == 0 { 1.0 } else { -1.0 };
-    let x = PI * d / n as f64;
-    if n % 2 == 0 {
-        0.5 * sign / x.tan()
+/// Centred difference along the periodic body index (spacing 1): entry
+/// (i, j). Non-dissipative, so the transport adds no damping of its own. (A
+/// spectral derivative, the exact logarithm of the one-body shift, couples
+/// the whole loop and gave spurious low modes across the span/wrap junctions.)
+fn derivative(n: usize, i: usize, j: usize) -> f64 {
+    if j == (i + 1) % n {
+        0.5
+    } else if j == (i + n - 1) % n {
+        -0.5
     } else {
-        0.5 * sign / x.sin()
+        0.0
     }
 }
 
@@ -196,8 +202,7 @@ fn system_matrix(lin: &Linearisation, transport: bool) -> (Vec<f64>, f64) {
             (phi.cos(), phi.sin())
         })
         .collect();
-    for i in 0..n {
-        let (c, s) = rot[i];
+    for (i, &(c, s)) in rot.iter().enumerate() {
         for off in [0, 3] {
             let (p, q) = (lin.body(i, off), lin.body(i, off + 1));
             // rows: R^T
@@ -240,8 +245,8 @@ fn system_matrix(lin: &Linearisation, transport: bool) -> (Vec<f64>, f64) {
     // The creep states are left out: a body's creep is reset when it leaves
     // the pulley, so it does not travel with the belt as a field.
     for i in 0..n {
-        for j in 0..n {
-            let d = rate * spectral_derivative(n, i, j);
+        for j in [(i + n - 1) % n, (i + 1) % n] {
+            let d = rate * derivative(n, i, j);
             if d == 0.0 {
                 continue;
             }
@@ -471,5 +476,24 @@ pub fn classify(
         consider(Part::PulleyRotation(j + 1), e);
     }
     let share = if total > 0.0 { best.1 / total } else { 0.0 };
+    // All free pulleys' surfaces moving together, within a factor 2 and in
+    // phase: the belt turns round as a whole.
+    if let Part::PulleyRotation(_) = best.0 {
+        let surf: Vec<faer::c64> = lin
+            .pulleys
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| !p.speed_driven)
+            .map(|(j, p)| v[lin.pulley(j).1] * (p.side * p.radius))
+            .collect();
+        let together = surf.len() >= 2
+            && surf.iter().all(|a| {
+                surf.iter()
+                    .all(|b| (a * b.conj()).re > 0.0 && a.norm() < 2.0 * b.norm())
+            });
+        if together {
+            return (Part::RigidRotation, share);
+        }
+    }
     (best.0, share)
 }
