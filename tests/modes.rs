@@ -264,6 +264,7 @@ fn frequencies_converge_with_body_count() {
     };
     let f: Vec<[f64; 2]> = [80, 120, 180].into_iter().map(pick).collect();
     eprintln!("80/120/180 bodies: {f:?}");
+    #[allow(clippy::needless_range_loop)] // q indexes the three runs' pairs
     for q in 0..2 {
         let d1 = (f[1][q] - f[0][q]).abs();
         let d2 = (f[2][q] - f[1][q]).abs();

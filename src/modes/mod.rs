@@ -486,7 +486,10 @@ pub fn classify(
             .filter(|(_, p)| !p.speed_driven)
             .map(|(j, p)| v[lin.pulley(j).1] * (p.side * p.radius))
             .collect();
-        let together = surf.len() >= 2
+        // (a speed-driven pulley holds the belt: no rigid rotation then)
+        let all_free = lin.pulleys.iter().all(|p| !p.speed_driven);
+        let together = all_free
+            && surf.len() >= 2
             && surf.iter().all(|a| {
                 surf.iter()
                     .all(|b| (a * b.conj()).re > 0.0 && a.norm() < 2.0 * b.norm())
