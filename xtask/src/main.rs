@@ -20,8 +20,8 @@
 //! * `bench [--quick] [--core N] [--no-docs]` - the benchmark suites
 //!   (`benches/belt.rs`, `benches/stiff.rs`); rewrites the generated part of
 //!   `docs/benchmarks.md` (see `bench.rs`).
-//! * `modes -- [--ssv FILE] [--set NAME=VALUE ...] [--speeds FROM:TO:N] [--at TIME]`
-//!   - modal analysis (`examples/modes.rs`): `dist/modes.csv` and, with
+//! * `modes -- [--ssv FILE] [--set NAME=VALUE ...] [--speeds FROM:TO:N] [--at TIME]`:
+//!   the modal analysis (`examples/modes.rs`), `dist/modes.csv` and, with
 //!   `--speeds`, the Campbell diagram `dist/campbell.png` (docs/modes.md).
 
 mod bench;
