@@ -23,6 +23,9 @@ def main():
     ap.add_argument("csv")
     ap.add_argument("png")
     ap.add_argument("--title", default="Campbell diagram")
+    ap.add_argument("--fmax", type=float, default=None,
+                    help="top of the frequency axis [Hz]; default: twice the 4th engine order "
+                         "at the top speed (all modes stay in the CSV)")
     a = ap.parse_args()
     rows = list(csv.DictReader(open(a.csv)))
     groups = defaultdict(lambda: ([], []))
@@ -40,9 +43,9 @@ def main():
     fig, ax = plt.subplots(figsize=(9, 6))
     markers = "o^sDv<>pPX*h"
     for k, (d, (xs, ys)) in enumerate(sorted(groups.items())):
-        ax.plot(xs, ys, markers[k % len(markers)], ms=4, label=d)
-    fmax = max([max(ys) for xs, ys in groups.values()] + [1.0])
+        ax.plot(xs, ys, markers[k % len(markers)], ms=5, label=d)
     rpm_max = max(speeds) * 60 / (2 * math.pi) if speeds else 1.0
+    fmax = a.fmax or max(2 * 4 * rpm_max / 60, 100.0)
     for order in (1, 2, 3, 4):
         ax.plot([0, rpm_max], [0, order * rpm_max / 60], "k--", lw=0.8)
         ax.annotate(f"{order}x", (rpm_max, order * rpm_max / 60), fontsize=8,
@@ -50,7 +53,7 @@ def main():
     ax.set_xlabel("crank speed [rpm]")
     ax.set_ylabel("natural frequency [Hz]")
     ax.set_ylim(0, fmax * 1.05)
-    ax.set_xlim(0, rpm_max * 1.08)
+    ax.set_xlim(-rpm_max * 0.03, rpm_max * 1.08)
     ax.set_title(a.title)
     ax.text(0.01, 0.99,
             f"{left_out} modes of the discrete bodies (belt pitching, contact, creep, "
