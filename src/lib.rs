@@ -17,3 +17,6 @@ pub mod fmu_model;
 #[cfg(feature = "modes")]
 pub mod modes;
 pub mod variables;
+
+// The FMU's C functions, for its one model.
+export_fmi2_co_simulation!(fmu_model::BeltDrive);

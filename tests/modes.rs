@@ -226,22 +226,42 @@ fn running_span_mode_is_the_axially_moving_strings() {
     assert!(err.abs() < 0.05, "{err:+.4}");
 }
 
-/// The steady running state does not depend on the integrator, nor do its
-/// modes: both methods' f1 within 2 %. Not closer: the snapshot carries the
-/// start-up's transverse span vibration (damping ratio ~5e-4, it does not
-/// decay in 0.5 s), whose phase differs between the two integrators'
-/// trajectories; both runs are converged to their tolerance 1e-4.
+/// The modes do not depend on the integrator: the two-pulley drive kept at
+/// rest for 50 ms by each method (the polygon potential and gravity move it
+/// slightly) gives the same first ten modes within 0.1 % (both runs are
+/// converged to relTol 1e-4; a state error of that order moves a frequency by
+/// as little). The belt's rigid rotation on the polygon is left out: its
+/// ~2.7 Hz depends on where in the cogging potential the belt has rocked to
+/// (2.70 vs 2.65 Hz after the two runs).
+///
+/// Not checked in steady running: there the frozen-time frequencies move by
+/// more than the methods differ from one snapshot to the next (the heavy-belt
+/// drive's f1: 13.08, 13.44, 12.18, 11.20 Hz at 0.60, 0.61, 0.62, 0.63 s with
+/// the stiff method; docs/modes.md, "Steady running").
 #[test]
-fn running_modes_do_not_depend_on_the_integrator() {
-    let f: Vec<f64> = [Method::Rkf45, Method::Rosenbrock]
+fn modes_do_not_depend_on_the_integrator() {
+    let f: Vec<Vec<f64>> = [Method::Rkf45, Method::Rosenbrock]
         .into_iter()
         .map(|method| {
-            let (m, _, _) = running(&heavy_running(80, method));
-            first_running_transverse(&m).frequency_hz
+            let mut p = two_pulley(80);
+            p.solver.method = method;
+            let mut drive = adapter::build(&p).expect("valid drive");
+            adapter::run_to(&mut drive, 0.05).expect("run");
+            let lin = adapter::linearise(&drive);
+            let m = analyse(&lin, &Options::default()).expect("eigen-solve");
+            m.modes
+                .iter()
+                .filter(|x| !x.part.artificial())
+                .take(10)
+                .map(|x| x.frequency_hz)
+                .collect()
         })
         .collect();
-    eprintln!("RKF45 {:.4} Hz, Rosenbrock {:.4} Hz", f[0], f[1]);
-    assert!((f[0] / f[1] - 1.0).abs() < 0.02, "{f:?}");
+    eprintln!("RKF45 {:?}\nRosenbrock {:?}", f[0], f[1]);
+    assert_eq!(f[0].len(), 10);
+    for (a, b) in f[0].iter().zip(&f[1]) {
+        assert!((a / b - 1.0).abs() < 1e-3, "{a} {b}");
+    }
 }
 
 /// Frequencies converge with the body count: the first span mode and the

@@ -77,11 +77,15 @@ pub fn build(params: &DriveParams) -> Result<Drive, String> {
     Drive::new(params, 0.0).map_err(|e| e.to_string())
 }
 
-/// Integrates the drive to time `t`.
+/// Integrates the drive to time `t`, in calls of at most 1 ms (the
+/// parameters' `solver.maxSteps` guards one call, as it guards one
+/// fmi2DoStep of the FMU).
 pub fn run_to(drive: &mut Drive, t: f64) -> Result<(), String> {
-    if t > drive.time() {
+    const CHUNK: f64 = 1e-3;
+    while drive.time() < t {
+        let next = (drive.time() + CHUNK).min(t);
         drive
-            .advance(t)
+            .advance(next)
             .map_err(|e| format!("the run to t = {t} s failed: {e:?}"))?;
     }
     Ok(())

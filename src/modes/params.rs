@@ -6,45 +6,18 @@ use crate::belt::DriveParams;
 use crate::fmi::FmuModel;
 use crate::fmu_model::BeltDrive;
 use crate::variables::{by_name, Causality, VarType};
-use quick_xml::events::Event;
-use quick_xml::Reader;
 use std::path::Path;
 
 /// (name, element, value) of every `ssv:Parameter` in an .ssv file, the
 /// element being `Real`, `Integer` or `Boolean`.
 pub fn read_ssv(path: &Path) -> Result<Vec<(String, String, String)>, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let mut reader = Reader::from_str(&text);
-    let mut out = Vec::new();
-    let mut name = None;
-    let bad = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
-    loop {
-        match reader.read_event().map_err(|e| bad(&e))? {
-            Event::Start(e) | Event::Empty(e) => {
-                let attr = |key: &str| -> Result<Option<String>, String> {
-                    match e.try_get_attribute(key).map_err(|e| bad(&e))? {
-                        Some(a) => Ok(Some(a.unescape_value().map_err(|e| bad(&e))?.into_owned())),
-                        None => Ok(None),
-                    }
-                };
-                match e.name().as_ref() {
-                    b"ssv:Parameter" => name = attr("name")?,
-                    tag @ (b"ssv:Real" | b"ssv:Integer" | b"ssv:Boolean") => {
-                        let kind = String::from_utf8_lossy(&tag[4..]).into_owned();
-                        let n = name
-                            .take()
-                            .ok_or_else(|| bad(&"a value outside ssv:Parameter"))?;
-                        let v = attr("value")?.ok_or_else(|| bad(&format!("{n}: no value")))?;
-                        out.push((n, kind, v));
-                    }
-                    _ => {}
-                }
-            }
-            Event::Eof => break,
-            _ => {}
-        }
-    }
-    Ok(out)
+    let params =
+        model_description::ssv::read(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(params
+        .into_iter()
+        .map(|p| (p.name, p.ty, p.value))
+        .collect())
 }
 
 /// Sets parameter `name` from its text `value` (the variable's own type).
