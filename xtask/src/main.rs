@@ -20,6 +20,9 @@
 //! * `bench [--quick] [--core N] [--no-docs]` - the benchmark suites
 //!   (`benches/belt.rs`, `benches/stiff.rs`); rewrites the generated part of
 //!   `docs/benchmarks.md` (see `bench.rs`).
+//! * `modes -- [--ssv FILE] [--set NAME=VALUE ...] [--speeds FROM:TO:N] [--at TIME]`:
+//!   the modal analysis (`examples/modes.rs`), `dist/modes.csv` and, with
+//!   `--speeds`, the Campbell diagram `dist/campbell.png` (docs/modes.md).
 
 mod bench;
 mod docs;
@@ -207,6 +210,8 @@ fn test() -> Result<()> {
             "clippy",
             "--workspace",
             "--all-targets",
+            "--features",
+            "belt_drive/modes",
             "--",
             "-D",
             "warnings",
@@ -214,7 +219,13 @@ fn test() -> Result<()> {
         "cargo clippy",
     )?;
     run(
-        cargo().args(["test", "--workspace", "--release"]),
+        cargo().args([
+            "test",
+            "--workspace",
+            "--release",
+            "--features",
+            "belt_drive/modes",
+        ]),
         "cargo test",
     )?;
     if have_valgrind() {
@@ -229,6 +240,51 @@ fn test() -> Result<()> {
             .args(["-m", "pytest", "-q", "tests/python"])
             .env("FMI_SIM", fmi_sim),
         "pytest (FMU through FMPy and fmi-sim)",
+    )
+}
+
+/// `cargo xtask modes -- [--ssv FILE] [--set NAME=VALUE ...] [--speeds FROM:TO:N]
+/// [--at TIME] [--fmax HZ] [--out FILE]`: the modal analysis
+/// (`examples/modes.rs`) writes the CSV (default `dist/modes.csv`); with
+/// `--speeds` the Campbell diagram is drawn beside it (`campbell.png`, by
+/// `examples/campbell.py` with matplotlib from `.venv`).
+fn modes(args: &[String]) -> Result<()> {
+    let args = args.strip_prefix(&["--".to_string()]).unwrap_or(args);
+    run(
+        cargo()
+            .args([
+                "run",
+                "--release",
+                "--features",
+                "modes",
+                "--example",
+                "modes",
+                "--",
+            ])
+            .args(args),
+        "modal analysis",
+    )?;
+    let csv = args
+        .iter()
+        .position(|a| a == "--out")
+        .and_then(|i| args.get(i + 1))
+        .map_or_else(|| PathBuf::from("dist/modes.csv"), PathBuf::from);
+    if !args.iter().any(|a| a == "--speeds") {
+        eprintln!("xtask: no --speeds: one linearisation, no Campbell diagram");
+        return Ok(());
+    }
+    let png = if csv.file_name().is_some_and(|n| n == "modes.csv") {
+        csv.with_file_name("campbell.png")
+    } else {
+        csv.with_extension("png")
+    };
+    venv()?;
+    run(
+        Command::new(venv_python())
+            .arg("examples/campbell.py")
+            .arg(&csv)
+            .arg(&png),
+        "Campbell diagram",
     )
 }
 
@@ -286,9 +342,10 @@ fn main() {
         Some("test") => test(),
         Some("valgrind") => valgrind(),
         Some("bench") => bench::bench(&args[1..]),
+        Some("modes") => modes(&args[1..]),
         Some("sweep") => sweep(&args[1..]),
         _ => Err(
-            "usage: cargo xtask <fmu|venv|run|validate|crosscheck|fmi-sim|test|valgrind|bench|sweep>"
+            "usage: cargo xtask <fmu|venv|run|validate|crosscheck|fmi-sim|test|valgrind|bench|sweep|modes>"
                 .into(),
         ),
     };
