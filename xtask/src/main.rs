@@ -125,9 +125,17 @@ fn venv() -> Result<()> {
             "create .venv",
         )?;
     }
+    let n = text
+        .lines()
+        .filter(|l| !l.trim().is_empty() && !l.trim_start().starts_with('#'))
+        .count();
+    eprintln!(
+        "xtask: installing the Python harness into .venv: {n} pinned packages \
+         (tests/python/requirements.txt; first run only, 1-3 min depending on the network)"
+    );
     run(
         Command::new(venv_python())
-            .args(["-m", "pip", "install", "--quiet", "-r"])
+            .args(["-m", "pip", "install", "--progress-bar", "off", "-r"])
             .arg(&reqs),
         "install the Python harness",
     )?;
@@ -173,7 +181,17 @@ fn validate(args: &[String]) -> Result<()> {
     )
 }
 
-fn test() -> Result<()> {
+/// `cargo xtask test [--fmi-sim]`: everything CI runs. The Rust tests build
+/// with the `ci` profile (release optimisation without fat LTO, see
+/// Cargo.toml); the FMU the Python tests load is the packaged release build.
+/// rust-fmi's fmi-sim builds from source (about 5 min of CPU time), so it runs
+/// only with `--fmi-sim` or when `.tools/` already holds it; the wheel-based
+/// importers (libcosim, Ecos, fmu-manipulation-toolbox) always run.
+fn test(args: &[String]) -> Result<()> {
+    let with_fmi_sim = args.iter().any(|a| a == "--fmi-sim");
+    if let Some(bad) = args.iter().find(|a| *a != "--fmi-sim" && *a != "--") {
+        return Err(format!("test: unknown option {bad} (known: --fmi-sim)"));
+    }
     run(
         cargo().args(["fmt", "--all", "--", "--check"]),
         "cargo fmt --check",
@@ -190,21 +208,42 @@ fn test() -> Result<()> {
         "cargo clippy",
     )?;
     run(
-        cargo().args(["test", "--workspace", "--release"]),
-        "cargo test",
+        cargo().args(["test", "--workspace", "--profile", "ci"]),
+        "cargo test (profile ci)",
     )?;
     if have_valgrind() {
-        valgrind()?;
+        valgrind_with("ci")?;
     } else {
         eprintln!("xtask: valgrind not found: skipping the memory check (cargo xtask valgrind)");
     }
     crosscheck(&[])?;
-    let fmi_sim = tools::fmi_sim()?;
+    tools::ensure_tbb()?;
+    let mut pytest = Command::new(venv_python());
+    pytest.args([
+        "-m",
+        "pytest",
+        "-q",
+        "-p",
+        "no:cacheprovider",
+        "tests/python",
+    ]);
+    let fmi_sim = if with_fmi_sim {
+        Some(tools::fmi_sim()?)
+    } else {
+        tools::fmi_sim_installed()
+    };
+    match fmi_sim {
+        Some(exe) => {
+            pytest.env("FMI_SIM", exe);
+        }
+        None => eprintln!(
+            "xtask: fmi-sim not installed: its importer tests are skipped \
+             (`cargo xtask test --fmi-sim` builds it into .tools/, about 5 min)"
+        ),
+    }
     run(
-        Command::new(venv_python())
-            .args(["-m", "pytest", "-q", "tests/python"])
-            .env("FMI_SIM", fmi_sim),
-        "pytest (FMU through FMPy and fmi-sim)",
+        &mut pytest,
+        "pytest (the packaged FMU through FMPy and the other importers)",
     )
 }
 
@@ -222,17 +261,23 @@ fn have_valgrind() -> bool {
 /// ("possibly lost" and "still reachable" blocks of the Rust runtime and of
 /// dlopen are not errors).
 fn valgrind() -> Result<()> {
+    valgrind_with("release")
+}
+
+/// [`valgrind`] on the build of the given cargo profile.
+fn valgrind_with(profile: &str) -> Result<()> {
     run(
         cargo().args([
             "build",
-            "--release",
+            "--profile",
+            profile,
             "--lib",
             "--example",
             "valgrind_driver",
             "-p",
             "belt_drive",
         ]),
-        "release build of the library and the valgrind driver",
+        "build of the library and the valgrind driver",
     )?;
     let target = std::env::var("CARGO_TARGET_DIR")
         .map(PathBuf::from)
@@ -245,7 +290,7 @@ fn valgrind() -> Result<()> {
                 "--errors-for-leak-kinds=definite,indirect",
                 "--error-exitcode=1",
             ])
-            .arg(target.join("release/examples/valgrind_driver")),
+            .arg(target.join(profile).join("examples/valgrind_driver")),
         "valgrind memcheck",
     )
 }
@@ -259,7 +304,7 @@ fn main() {
         Some("validate") => validate(&args[1..]),
         Some("crosscheck") => crosscheck(&args[1..]),
         Some("fmi-sim") => tools::fmi_sim().map(|p| println!("{}", p.display())),
-        Some("test") => test(),
+        Some("test") => test(&args[1..]),
         Some("valgrind") => valgrind(),
         Some("bench") => bench::bench(&args[1..]),
         _ => Err(
