@@ -3,8 +3,9 @@
 //! * `fmu`  - release build, then `dist/BeltDrive.fmu` (model description with
 //!   its GUID, the Linux binary, generated documentation, model icon).
 //! * `venv` - `.venv` with the Python test harness (FMPy, pytest, ...).
-//! * `run`  - the main job: build the FMU and simulate the paper's drive with
-//!   it through FMPy (headline figures + `dist/default_drive.png`).
+//! * `run [-- --fast --stop-time T]` - the main job: build the FMU and
+//!   simulate the paper's drive with it through FMPy (report,
+//!   `dist/default_drive.png`, the animation `dist/default_drive.html`).
 //! * `crosscheck` - reference results in the FMI cross-check layout beside
 //!   the FMU: `dist/BeltDrive_{ref.csv,ref.opt,in.csv}` (FMPy).
 //! * `fmi-sim` - install the pinned rust-fmi `fmi-sim` into `.tools/`.
@@ -95,11 +96,11 @@ fn fmu() -> Result<PathBuf> {
         .ok_or("modelDescription.xml must hold the @GUID@ placeholder exactly once")?;
     add("modelDescription.xml", xml.as_bytes())?;
     add("binaries/linux64/BeltDrive.so", &so)?;
-    let model_md = fs::read_to_string(root.join("docs/model.md")).ok();
-    add(
-        "documentation/index.html",
-        docs::index_html(&xml, model_md.as_deref())?.as_bytes(),
-    )?;
+    let manual = fs::read_to_string(root.join("docs/fmu-manual.md"))
+        .map_err(|e| format!("reading docs/fmu-manual.md: {e}"))?;
+    for (name, bytes) in docs::documentation(&xml, &manual, &root.join("docs"))? {
+        add(&format!("documentation/{name}"), &bytes)?;
+    }
     add("model.png", &icon::model_png())?;
     zip.finish().map_err(|e| e.to_string())?;
     println!("{}", path.display());
@@ -146,10 +147,28 @@ fn main_job(args: &[String]) -> Result<()> {
     // `cargo xtask run -- --stop-time 0.5`: drop the separator.
     let args = args.strip_prefix(&["--".to_string()]).unwrap_or(args);
     fmu()?;
+    // The animation's belt shape: the physics core with the FMU's defaults
+    // (the FMU has no body position outputs), see examples/belt_shape.rs.
+    run(
+        cargo().args([
+            "build",
+            "--release",
+            "--example",
+            "belt_shape",
+            "-p",
+            "belt_drive",
+        ]),
+        "release build of the belt-shape example (animation)",
+    )?;
     venv()?;
+    let target = std::env::var("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|_| root().join("target"));
     run(
         Command::new(venv_python())
             .arg("tests/python/run_default.py")
+            .arg("--shape-exe")
+            .arg(target.join("release/examples/belt_shape"))
             .args(args),
         "simulate the default drive",
     )
