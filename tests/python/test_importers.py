@@ -273,3 +273,22 @@ def test_fmu_manipulation_toolbox_checker_passes(fmu_path):
     assert "No semantic error" in log, log
     bad = [line for line in log.splitlines() if line.startswith(("WARNING", "ERROR"))]
     assert bad == [], log
+
+
+def test_crosscheck_compare_command(crosscheck, tmp_path):
+    """`cargo xtask crosscheck -- --compare` (tests/python/crosscheck.py):
+    passes on an import of the files, fails on a result that is off."""
+    script = ROOT / "tests/python/crosscheck.py"
+    run = lambda *a: subprocess.run([__import__("sys").executable, str(script), "--compare",  # noqa: E731
+                                     "--dir", str(DIST), *a], capture_output=True, text=True,
+                                    timeout=600)
+    ok = run()
+    assert ok.returncode == 0, ok.stdout + ok.stderr
+    ref = read_csv(crosscheck["ref.csv"])
+    ref["span[1].tension"] += 1.0  # 1 N off: far beyond the integration error
+    names = ref.dtype.names
+    bad = tmp_path / "bad.csv"
+    bad.write_text(",".join(f'"{n}"' for n in names) + "\n"
+                   + "\n".join(",".join(repr(float(x)) for x in row) for row in ref) + "\n")
+    off = run("--result", str(bad))
+    assert off.returncode != 0 and "span[1].tension" in off.stdout, off.stdout + off.stderr
