@@ -209,10 +209,11 @@ fn drive_svg(info: &ModelInfo) -> Result<String> {
         y0 = y0.min(y - r);
         y1 = y1.max(y + r);
     }
-    let (w, h) = (760.0, 300.0);
-    let scale = ((w - 200.0) / (x1 - x0)).min((h - 150.0) / (y1 - y0));
+    let w = 760.0;
+    let scale = ((w - 200.0) / (x1 - x0)).min(300.0 / (y1 - y0));
+    let h = scale * (y1 - y0) + 190.0;
     let ox = 110.0 - scale * x0;
-    let oy = h / 2.0 + scale * (y0 + y1) / 2.0;
+    let oy = 60.0 + scale * y1;
     let sx = |x: f64| ox + scale * x;
     let sy = |y: f64| oy - scale * y;
     let mut svg = format!(
@@ -321,7 +322,7 @@ fn drive_svg(info: &ModelInfo) -> Result<String> {
          <line x1=\"{ax}\" y1=\"{ay}\" x2=\"{ax}\" y2=\"{}\" stroke=\"#333\" marker-end=\"url(#arr)\"/>\
          <text x=\"{}\" y=\"{}\">y</text>\
          <path d=\"M{},{} A14,14 0 1 0 {},{}\" fill=\"none\" stroke=\"#333\" marker-end=\"url(#arr)\"/>\
-         <text x=\"{}\" y=\"{}\">+ angle, speed, torque (counter-clockwise)</text>\
+         <text x=\"{}\" y=\"{}\">+ angle, speed, torque: counter-clockwise</text>\
          <text x=\"{}\" y=\"{}\">arrows on the spans: direction of belt travel ({})</text>\n",
         ax + 40.0,
         ax + 44.0,
@@ -334,9 +335,9 @@ fn drive_svg(info: &ModelInfo) -> Result<String> {
         ax + 70.0,
         ay - 24.0,
         ax + 100.0,
-        ay - 12.0,
-        ax + 300.0,
-        ay - 12.0,
+        ay - 18.0,
+        ax + 100.0,
+        ay + 2.0,
         if clockwise { "clockwise" } else { "counter-clockwise" }
     ));
     svg.push_str("</svg>\n");

@@ -237,6 +237,7 @@ fn test(args: &[String]) -> Result<()> {
     }
     crosscheck(&[])?;
     tools::ensure_tbb()?;
+    tools::ensure_chromium()?;
     let mut pytest = Command::new(venv_python());
     pytest.args([
         "-m",

@@ -144,6 +144,21 @@ pub fn ensure_tbb() -> Result<()> {
     apt_install("libtbb12")
 }
 
+/// Debian's `chromium` for the browser tests of the FMU manual and the
+/// animation (tests/python/test_browser.py), unless `BELTDRIVE_CHROMIUM`
+/// names a browser or `chromium` is on the PATH.
+pub fn ensure_chromium() -> Result<()> {
+    if std::env::var_os("BELTDRIVE_CHROMIUM").is_some()
+        || Command::new("chromium")
+            .arg("--version")
+            .output()
+            .is_ok_and(|o| o.status.success())
+    {
+        return Ok(());
+    }
+    apt_install("chromium")
+}
+
 /// `apt-get install` one Debian package, updating the package lists first if
 /// the install fails (a fresh machine may have empty lists).
 fn apt_install(package: &str) -> Result<()> {
