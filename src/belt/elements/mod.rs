@@ -1,0 +1,14 @@
+//! The force laws of the model, each written once: its force, partial
+//! derivatives, stored energy and dissipated power side by side. The
+//! right-hand side, the Jacobian, the outputs and the energy balance call
+//! these and compute no force of their own.
+//!
+//! * [`sde`]: translational and torsional spring-damper between bodies, eq. 20-23;
+//! * [`contact`]: penalty contact and the contact force with friction, eq. 4-11, 19;
+//! * [`friction`]: the friction coefficient of both laws, eq. 12-19 and ref. [11];
+//! * [`pulley`]: a pulley's drive and load, eq. 24.
+
+pub mod contact;
+pub mod friction;
+pub mod pulley;
+pub mod sde;
