@@ -7,16 +7,15 @@
 //!   state). It knows nothing about belts beyond the [`fmi::FmuModel`] trait.
 //! * `modes` (feature `modes`): modal analysis from the analytic Jacobian
 //!   (docs/modes.md).
-//! * [`fmu_model`] connects the two: it maps the variables of
-//!   `modelDescription/modelDescription.xml` onto the core's parameters,
-//!   inputs and outputs.
+//! * [`fmu`] connects the two: it maps the variables of
+//!   `modelDescription/modelDescription.xml` (its generated table,
+//!   [`fmu::variables`]) onto the core's parameters, inputs and outputs.
 
 pub mod belt;
 pub mod fmi;
-pub mod fmu_model;
+pub mod fmu;
 #[cfg(feature = "modes")]
 pub mod modes;
-pub mod variables;
 
 // The FMU's C functions, for its one model.
-export_fmi2_co_simulation!(fmu_model::BeltDrive);
+export_fmi2_co_simulation!(fmu::BeltDrive);
