@@ -4,8 +4,8 @@
 
 use crate::belt::DriveParams;
 use crate::fmi::FmuModel;
-use crate::fmu::BeltDrive;
 use crate::fmu::variables::{by_name, Causality, VarType};
+use crate::fmu::BeltDrive;
 use std::path::Path;
 
 /// (name, element, value) of every `ssv:Parameter` in an .ssv file, the

@@ -256,7 +256,14 @@ fn test(args: &[String]) -> Result<()> {
         "cargo clippy",
     )?;
     run(
-        cargo().args(["test", "--workspace", "--profile", "ci", "--features", "belt_drive/modes"]),
+        cargo().args([
+            "test",
+            "--workspace",
+            "--profile",
+            "ci",
+            "--features",
+            "belt_drive/modes",
+        ]),
         "cargo test (profile ci)",
     )?;
     if have_valgrind() {
