@@ -200,11 +200,13 @@ fn first_running_transverse(m: &Modes) -> &Mode {
 /// frozen contact set (bodies enter and leave the wraps within one body
 /// passage, 1/400 s here) and the centred transport difference.
 ///
-/// Known gap: measured -9 % (80 bodies) to -13 % (160 bodies) for f1, while
-/// the spacing of the higher modes matches the moving string within 1 %
-/// (docs/modes.md, "Steady running"); the cause is not found yet.
+/// Known gap: at 120 bodies the lowest decaying mode described as span 1
+/// transverse is a spurious 0.6 Hz mode of the running analysis; the first
+/// plausible one (12.94 Hz at 80 bodies, 12.92 Hz at 160) is 9 % below the
+/// law, while the spacing of the higher span modes matches it within 1.5 %
+/// (docs/modes.md, "Steady running"). The cause is not found yet.
 #[test]
-#[ignore = "known gap: running f1 9-13 % below the moving string (docs/modes.md)"]
+#[ignore = "known gap: the running analysis misses the moving-string f1 (docs/modes.md)"]
 fn running_span_mode_is_the_axially_moving_strings() {
     let p = heavy_running(120, Method::Rosenbrock);
     let (m, t, v) = running(&p);
@@ -236,7 +238,7 @@ fn running_span_mode_is_the_axially_moving_strings() {
 ///
 /// Not checked in steady running: there the frozen-time frequencies move by
 /// more than the methods differ from one snapshot to the next (the heavy-belt
-/// drive's f1: 13.08, 13.44, 12.18, 11.20 Hz at 0.60, 0.61, 0.62, 0.63 s with
+/// drive's f1: 12.94, 12.79, 12.43, 11.44 Hz at 0.60, 0.61, 0.62, 0.63 s with
 /// the stiff method; docs/modes.md, "Steady running").
 #[test]
 fn modes_do_not_depend_on_the_integrator() {
