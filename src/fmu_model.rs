@@ -150,6 +150,7 @@ impl BeltDrive {
             Var::PulleyTorqueRamp => &mut p.pulleys[j].torque_ramp,
             Var::PulleyOmegaRamp => &mut p.pulleys[j].omega_ramp,
             Var::PulleyRampTime => &mut p.pulleys[j].ramp_time,
+            Var::PulleyGrooveAngle => &mut p.pulleys[j].groove_angle,
             _ => return None,
         })
     }
@@ -204,6 +205,8 @@ impl BeltDrive {
             Var::ProbeSlipVelocity => o.probe.slip_velocity[j],
             Var::SpanTension => o.span_tension[j],
             Var::SpanSlip => o.span_slip[j],
+            Var::SpanMidDeflection => o.span_mid_deflection[j],
+            Var::SpanMidDeflectionRate => o.span_mid_deflection_rate[j],
             Var::BeltMinTension => o.min_tension,
             Var::BeltMaxTension => o.max_tension,
             Var::ProbeSdeForce => o.probe.sde_force,

@@ -198,6 +198,11 @@ pub struct Outputs {
     /// Slip across span k: 1 - v_{k+1} / v_k, surface speeds of consecutive
     /// pulleys (the last span closes the loop back to pulley 1).
     pub span_slip: [f64; MAX_PULLEYS],
+    /// Transverse deflection of the belt at the fixed mid-point of span k
+    /// from the straight common tangent of the mounted path [m], positive
+    /// to the left of the travel from pulley k to k+1, and its rate [m/s].
+    pub span_mid_deflection: [f64; MAX_PULLEYS],
+    pub span_mid_deflection_rate: [f64; MAX_PULLEYS],
     pub min_tension: f64,
     pub max_tension: f64,
     pub probe: ProbeOutputs,
@@ -535,6 +540,12 @@ impl Drive {
                 0.0
             };
         }
+        for k in 0..np {
+            if let Some((d, rate)) = self.mid_deflection(k) {
+                out.span_mid_deflection[k] = d;
+                out.span_mid_deflection_rate[k] = rate;
+            }
+        }
         let e = self.sys.energy_offset();
         out.energy_input = self.y[e];
         out.energy_dissipated = self.y[e + 1];
@@ -542,6 +553,68 @@ impl Drive {
         out.kinetic_energy = kin;
         out.potential_energy = pot;
         out
+    }
+
+    /// Deflection and its rate at the fixed mid-point of the free span from
+    /// pulley k to k+1 (`Outputs::span_mid_deflection`). The belt's line is
+    /// the polygon through the body centres (straight in a straight span);
+    /// where it crosses the normal to the mounted common tangent through
+    /// the tangent's mid-point, the crossing's distance from the tangent is
+    /// the deflection; its rate is the exact time derivative of that
+    /// distance (the crossing point moves along the polygon). Of the two
+    /// strands of the loop that cross the normal, the nearer one is the
+    /// span's. None if the span has no free length.
+    fn mid_deflection(&self, k: usize) -> Option<(f64, f64)> {
+        let np = self.sys.np;
+        let next = (k + 1) % np;
+        let span = self.layout.span_between(k, next)?;
+        let (a, b) = if span.from == k {
+            (span.start, span.end)
+        } else {
+            (span.end, span.start)
+        };
+        let (lx, ly) = (b[0] - a[0], b[1] - a[1]);
+        let len = lx.hypot(ly);
+        if len <= 0.0 {
+            return None;
+        }
+        let (tx, ty) = (lx / len, ly / len);
+        let (nx, ny) = (-ty, tx);
+        let m = span.midpoint();
+        let n = self.sys.n;
+        let local = |i: usize| {
+            let o = BODY_DOF * i;
+            let (rx, ry) = (self.y[o] - m[0], self.y[o + 1] - m[1]);
+            let (vx, vy) = (self.y[o + 3], self.y[o + 4]);
+            // along, across, and their rates
+            (
+                rx * tx + ry * ty,
+                rx * nx + ry * ny,
+                vx * tx + vy * ty,
+                vx * nx + vy * ny,
+            )
+        };
+        let mut best: Option<(f64, f64)> = None;
+        let mut prev = local(n - 1);
+        for i in 0..n {
+            let cur = local(i);
+            let (s0, d0, ds0, dd0) = prev;
+            let (s1, d1, ds1, dd1) = cur;
+            prev = cur;
+            if (s0 <= 0.0) == (s1 <= 0.0) {
+                continue;
+            }
+            let den = s0 - s1;
+            let lam = s0 / den;
+            let d = d0 + lam * (d1 - d0);
+            if best.is_some_and(|(bd, _)| bd.abs() <= d.abs()) {
+                continue;
+            }
+            let lam_rate = (s0 * ds1 - s1 * ds0) / (den * den);
+            let rate = dd0 + lam_rate * (d1 - d0) + lam * (dd1 - dd0);
+            best = Some((d, rate));
+        }
+        best
     }
 
     /// Integrator data for a saved state, see [`restore`](Self::restore).

@@ -5,6 +5,8 @@
 //! * [`layout`]: belt path, body length for the preload, mounted bodies;
 //! * [`contact`]: penalty contact, eq. 4-11;
 //! * [`friction`]: the two friction laws, eq. 12-19 and ref. [11];
+//! * [`elements`]: the accessory-drive elements (V-groove, tensioner arm,
+//!   one-way decoupler) as force laws with partials and energy;
 //! * [`model`]: equations of motion, eq. 20-24 (the right-hand side);
 //! * [`stepping`]: adaptive step-size control shared by the integrators;
 //! * [`rkf45`]: the adaptive Runge-Kutta-Fehlberg 4(5) integrator;
@@ -15,6 +17,7 @@
 
 pub mod contact;
 pub mod drive;
+pub mod elements;
 pub mod friction;
 pub mod iteration_matrix;
 pub mod jacobian;

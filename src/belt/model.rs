@@ -8,6 +8,7 @@
 //! * `[work_in, energy_dissipated]` last.
 
 use super::contact::ContactLaw;
+use super::elements::groove::friction_factor;
 use super::friction::Friction;
 use super::layout::Layout;
 use super::params::{DriveParams, FrictionLaw, MAX_PULLEYS};
@@ -461,8 +462,9 @@ impl BeltSystem {
                 radius2: p.radius * p.radius,
                 inv_inertia: 1.0 / p.inertia,
                 inertia: p.inertia,
-                mu_s: p.mu_static,
-                mu_k: p.mu_kinetic,
+                // the groove's wedge effect (elements::groove)
+                mu_s: p.mu_static * friction_factor(p.groove_angle, p.back_side),
+                mu_k: p.mu_kinetic * friction_factor(p.groove_angle, p.back_side),
                 speed_driven: p.speed_driven,
                 load_damping: p.load_damping,
                 torque_ramp: p.torque_ramp,

@@ -6,6 +6,8 @@
 //! discrete spring-damper elements (SDEs) with the body length l, so a finer
 //! mesh models the same belt. See `docs/model.md`, "Parameters".
 
+use super::elements::groove::MIN_GROOVE_ANGLE;
+
 /// Number of pulley slots.
 pub const MAX_PULLEYS: usize = 6;
 
@@ -62,6 +64,10 @@ pub struct PulleyParams {
     pub mu_kinetic: f64,
     /// The belt's back touches this pulley (an idler outside the loop).
     pub back_side: bool,
+    /// Included angle 2 beta of the V-ribbed groove [rad], 0 = flat: the
+    /// ribs carry friction with mu / sin(beta); the belt's back on a
+    /// back-side idler stays flat (`elements::groove`).
+    pub groove_angle: f64,
     /// The pulley follows a prescribed speed instead of eq. 24.
     pub speed_driven: bool,
     /// Resistance torque -load_damping * omega [N m s/rad] (Fig. 13).
@@ -85,6 +91,7 @@ impl PulleyParams {
             mu_static: 1.05,
             mu_kinetic: 1.0,
             back_side: false,
+            groove_angle: 0.0,
             speed_driven: false,
             load_damping: 0.0,
             torque_ramp: 0.0,
@@ -268,6 +275,7 @@ impl DriveParams {
             mu_static: 0.8,
             mu_kinetic: 0.8,
             back_side: false,
+            groove_angle: 0.0,
             speed_driven: false,
             load_damping: 0.0,
             torque_ramp: 0.0,
@@ -465,6 +473,16 @@ impl DriveParams {
             finite(&n("torqueRamp"), p.torque_ramp)?;
             finite(&n("omegaRamp"), p.omega_ramp)?;
             positive(&n("rampTime"), p.ramp_time)?;
+            let g = p.groove_angle;
+            check(
+                g == 0.0 || (MIN_GROOVE_ANGLE..std::f64::consts::PI).contains(&g),
+                &n("grooveAngle"),
+                &format!(
+                    "0 (flat) or in [{MIN_GROOVE_ANGLE:.4}, pi) rad, i.e. 10..180 deg \
+                     (V-ribbed belts: 40 deg = 0.6981 rad)"
+                ),
+                g,
+            )?;
         }
         Ok(())
     }

@@ -1,0 +1,225 @@
+//! Accessory-drive features against closed-form mechanics: the V-groove's
+//! wedge effect on the capstan limit, and the transverse vibration of a
+//! free span (the string and the axially moving string) seen through the
+//! span mid-point deflection output. Tolerances are justified next to each
+//! assertion.
+
+mod common;
+
+use belt_drive::belt::model::BODY_DOF;
+use belt_drive::belt::{Drive, DriveParams, FrictionLaw};
+use common::*;
+use std::f64::consts::PI;
+
+/// Sliding over the whole wrap, the tension ratio is Euler-Eytelwein's
+/// e^(mu' theta) with the grooved pulley's mu' = mu / sin(beta).
+#[test]
+fn groove_capstan_limit() {
+    let mu: f64 = 0.12; // flat-pulley coefficient the user gives
+    let groove = 40f64.to_radians(); // ISO 9982 PK groove, 2 beta
+    let mu_eff = mu / (0.5 * groove).sin(); // 0.351
+    let run = |angle: f64, mu_theory: f64| {
+        let mut base = small_drive(FrictionLaw::Creep);
+        // 80 bodies: 16 on each wrap. At 40 (8 per wrap, 0.4 rad each) the
+        // discrete wrap carries 12 % less than the capstan ratio of mu' =
+        // 0.35; at 80 0.4 %, at 160 0.2 % (measured).
+        base.belt.n_bodies = 80;
+        for pl in base.pulleys.iter_mut() {
+            pl.mu_static = mu;
+            pl.mu_kinetic = mu;
+            pl.groove_angle = angle;
+        }
+        let ratio_max = (mu_theory * PI).exp();
+        let t0 = base.belt.preload;
+        let r = base.pulleys[0].radius;
+        let m_max = 2.0 * t0 * (ratio_max - 1.0) / (ratio_max + 1.0) * r;
+        // 1.5 x the capstan torque at 20 rad/s: the driven pulley slows
+        // until its load torque (falling with its speed) is what the sliding
+        // belt carries, and slides on in steady state.
+        let p = speed_driven(base, -20.0, 1.5 * m_max / 20.0);
+        let mut d = drive(&p);
+        let a = run_and_average(&mut d, 0.3, 0.5, 1e-3);
+        let slip = 1.0 - a.omega[1] / a.omega[0];
+        // the span tension less the centrifugal part rho' v^2 (< 0.1 N at
+        // 1 m/s) is what the wrap's friction balances
+        let v = 20.0 * r;
+        let rho_v2 = p.belt.mass_per_length * v * v;
+        let ratio = (a.span_tension[0] - rho_v2) / (a.span_tension[1] - rho_v2);
+        (ratio, ratio_max, slip)
+    };
+    let (ratio, theory, slip) = run(groove, mu_eff);
+    println!("grooved: ratio {ratio:.4}, e^(mu/sin(beta) pi) {theory:.4}, slip {slip:.3}");
+    // gross sliding, as intended
+    assert!(slip > 0.1, "slip {slip}");
+    // 2 %: the issue's figure. The creep law slides at exactly mu_k at its
+    // cap; the discrete wrap is 0.4 % short of the continuous capstan ratio
+    // at this mesh (above).
+    assert!(
+        (ratio / theory - 1.0).abs() < 0.02,
+        "tension ratio {ratio:.4} vs e^(mu' pi) {theory:.4}"
+    );
+    // the same drive with flat pulleys slides at e^(mu pi): the groove
+    // factor is what made the difference (1.46 against 3.02)
+    let (ratio_flat, theory_flat, _) = run(0.0, mu);
+    println!("flat: ratio {ratio_flat:.4}, e^(mu pi) {theory_flat:.4}");
+    assert!(
+        (ratio_flat / theory_flat - 1.0).abs() < 0.02,
+        "flat tension ratio {ratio_flat:.4} vs e^(mu pi) {theory_flat:.4}"
+    );
+}
+
+/// A two-pulley drive with a long straight span for the string tests:
+/// pulleys of 50 mm, 0.4 m apart, 100 bodies (the span 0.4 m holds ~40
+/// bodies: the discrete string's fundamental is within (pi/40)^2/24 =
+/// 3e-4 of the continuous one), no gravity (no sag), both pulleys free.
+fn string_drive() -> DriveParams {
+    let mut p = small_drive(FrictionLaw::Creep);
+    p.belt.n_bodies = 100;
+    p.pulleys[1].x = 0.4;
+    p.gravity = 0.0;
+    p.solver.rel_tol = 1e-6;
+    p.solver.abs_tol = 1e-9;
+    p
+}
+
+/// Gives the bodies of the span from pulley 1 to 2 the transverse velocity
+/// of the string's first mode, amplitude `v0`, v_n(s) = v0 sin(pi s / L)
+/// (s along the span from its start), and the matching body rotation rate.
+fn tap_span(d: &mut Drive, v0: f64) {
+    let span = d.layout().span_between(0, 1).expect("span 1").clone();
+    let (a, b) = if span.from == 0 {
+        (span.start, span.end)
+    } else {
+        (span.end, span.start)
+    };
+    let len = (b[0] - a[0]).hypot(b[1] - a[1]);
+    let (tx, ty) = ((b[0] - a[0]) / len, (b[1] - a[1]) / len);
+    let (nx, ny) = (-ty, tx);
+    let mut y = d.state().to_vec();
+    let n = d.params().belt.n_bodies;
+    for i in 0..n {
+        let o = BODY_DOF * i;
+        let (rx, ry) = (y[o] - a[0], y[o + 1] - a[1]);
+        let s = rx * tx + ry * ty;
+        let off = rx * nx + ry * ny;
+        if s > 0.0 && s < len && off.abs() < 0.01 {
+            let v = v0 * (PI * s / len).sin();
+            y[o + 3] += v * nx;
+            y[o + 4] += v * ny;
+            // the body turns with the slope's rate d(v_n)/ds; the body's
+            // orientation grows counterclockwise, the span runs along t, so
+            // the rate of its angle is +d(v_n)/ds when t is the travel
+            // direction and the sign flips otherwise: use the body's own
+            // axis (cos phi, sin phi) to decide
+            let (sp, cp) = y[o + 2].sin_cos();
+            let along = cp * tx + sp * ty;
+            y[o + 5] += along.signum() * v0 * PI / len * (PI * s / len).cos();
+        }
+    }
+    let t = d.time();
+    let inputs = *d.inputs();
+    let h = d.next_step_size();
+    let stats = d.stats();
+    let data = d.integrator_data();
+    assert!(d.restore(t, &y, inputs, h, stats, &data));
+}
+
+/// Dominant frequency of `d.outputs().span_mid_deflection[0]` over
+/// `duration` (sampled at `dt`): the maximum of the Hann-windowed discrete
+/// time Fourier transform of the signal less its mean, scanned at 1 Hz over
+/// 5-2000 Hz and refined by golden-section search to 1e-4 Hz. (Zero
+/// crossings would not do: a tap excites the higher modes as well, and on
+/// the moving string the 5th mode is half as strong as the 1st at the
+/// mid-point.) Also returns the mean span tension.
+fn mid_frequency(d: &mut Drive, duration: f64, dt: f64) -> (f64, f64) {
+    let t0 = d.time();
+    let n = (duration / dt).round() as usize;
+    let mut xs = Vec::with_capacity(n);
+    let mut tension = 0.0;
+    for k in 1..=n {
+        d.advance(t0 + k as f64 * dt).expect("run");
+        let o = d.outputs();
+        xs.push(o.span_mid_deflection[0]);
+        tension += o.span_tension[0];
+    }
+    let mean = xs.iter().sum::<f64>() / n as f64;
+    let w: Vec<f64> = (0..n)
+        .map(|k| (xs[k] - mean) * (PI * k as f64 / (n - 1) as f64).sin().powi(2))
+        .collect();
+    let amp = |f: f64| {
+        let (mut c, mut s) = (0.0, 0.0);
+        for (k, v) in w.iter().enumerate() {
+            let (sn, cs) = (2.0 * PI * f * k as f64 * dt).sin_cos();
+            c += v * cs;
+            s += v * sn;
+        }
+        c.hypot(s)
+    };
+    let coarse = (5..=2000)
+        .map(|f| (f as f64, amp(f as f64)))
+        .fold((0.0, 0.0), |b, x| if x.1 > b.1 { x } else { b });
+    let (mut a, mut b) = (coarse.0 - 1.0, coarse.0 + 1.0);
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    while b - a > 1e-4 {
+        let (x1, x2) = (b - g * (b - a), a + g * (b - a));
+        if amp(x1) > amp(x2) {
+            b = x2;
+        } else {
+            a = x1;
+        }
+    }
+    (0.5 * (a + b), tension / n as f64)
+}
+
+/// At rest, a tapped span rings at the string frequency (1 / 2L) sqrt(T /
+/// rho'), rho' the mass per length of the stretched belt.
+#[test]
+fn span_string_frequency_at_rest() {
+    let p = string_drive();
+    let mut d = drive(&p);
+    d.advance(0.01).unwrap();
+    tap_span(&mut d, 0.2);
+    let (f, tension) = mid_frequency(&mut d, 0.3, 5e-5);
+    let len = d.layout().span_between(0, 1).unwrap().length;
+    let rho = p.belt.mass_per_length / (1.0 + tension / p.belt.ea);
+    let theory = (tension / rho).sqrt() / (2.0 * len);
+    println!("span {len:.4} m, T {tension:.1} N: f {f:.2} Hz, string {theory:.2} Hz");
+    // 3 %: the issue's figure. Known deviations: the discrete string
+    // (3e-4), bending stiffness (EI pi^2 / (T L^2) / 2 = 3e-5), the compliant
+    // contact at the span ends (the wraps' penetration, 0.1 mm against 0.4 m)
+    // and the spectral estimate (a single dominant peak: its windowed
+    // maximum lies within a small fraction of the 3.3 Hz resolution).
+    assert!((f / theory - 1.0).abs() < 0.03, "f {f} Hz vs {theory} Hz");
+}
+
+/// Running at belt speed v, the span is an axially moving string:
+/// f_1 = (c^2 - v^2) / (2 L c), c = sqrt(T / rho').
+#[test]
+fn span_moving_string_frequency() {
+    let mut p = string_drive();
+    let omega = 400.0; // v = 20 m/s, against c ~ 56 m/s: f falls by 13 %
+    p.pulleys[0].speed_driven = true;
+    p.pulleys[0].omega_ramp = omega;
+    p.pulleys[0].ramp_time = 0.1;
+    p.solver.rel_tol = 1e-5;
+    p.solver.abs_tol = 1e-8;
+    let mut d = drive(&p);
+    d.advance(0.2).unwrap();
+    tap_span(&mut d, 0.2);
+    let (f, tension) = mid_frequency(&mut d, 0.3, 5e-5);
+    let len = d.layout().span_between(0, 1).unwrap().length;
+    let v = omega * p.pulleys[0].radius;
+    let rho = p.belt.mass_per_length / (1.0 + tension / p.belt.ea);
+    let c = (tension / rho).sqrt();
+    let theory = (c * c - v * v) / (2.0 * len * c);
+    let at_rest = c / (2.0 * len);
+    println!(
+        "v {v} m/s, T {tension:.1} N, c {c:.2} m/s: f {f:.2} Hz, moving string \
+         {theory:.2} Hz, string at rest {at_rest:.2} Hz"
+    );
+    // 5 %: the issue's figure (the speed adds the polygon excitation at the
+    // body-passing frequency, v / l ~ 2.4 kHz, far above f).
+    assert!((f / theory - 1.0).abs() < 0.05, "f {f} Hz vs {theory} Hz");
+    // and the test can tell the moving string from the string at rest
+    assert!((f / at_rest - 1.0).abs() > 0.08);
+}
