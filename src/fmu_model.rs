@@ -151,6 +151,9 @@ impl BeltDrive {
             Var::PulleyOmegaRamp => &mut p.pulleys[j].omega_ramp,
             Var::PulleyRampTime => &mut p.pulleys[j].ramp_time,
             Var::PulleyGrooveAngle => &mut p.pulleys[j].groove_angle,
+            Var::PulleyDecouplerStiffness => &mut p.pulleys[j].decoupler_stiffness,
+            Var::PulleyDecouplerDamping => &mut p.pulleys[j].decoupler_damping,
+            Var::PulleyRotorInertia => &mut p.pulleys[j].rotor_inertia,
             _ => return None,
         })
     }
@@ -175,6 +178,8 @@ impl BeltDrive {
         Some(match v.var {
             Var::PulleySpeedDriven => &mut p.speed_driven,
             Var::PulleyBackSide => &mut p.back_side,
+            Var::PulleyDecoupler => &mut p.decoupler,
+            Var::PulleyDecouplerClockwise => &mut p.decoupler_clockwise,
             _ => return None,
         })
     }
@@ -200,6 +205,8 @@ impl BeltDrive {
             Var::PulleyHubForceY => p.hub_force[1],
             Var::PulleySlip => p.slip,
             Var::PulleyWrapAngle => p.wrap_angle,
+            Var::PulleyRotorOmega => p.rotor_omega,
+            Var::PulleyDecouplerTorque => p.decoupler_torque,
             Var::ProbeNormalForce => o.probe.normal_force[j],
             Var::ProbeFrictionForce => o.probe.friction_force[j],
             Var::ProbeSlipVelocity => o.probe.slip_velocity[j],

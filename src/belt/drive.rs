@@ -177,6 +177,11 @@ pub struct PulleyOutputs {
     /// 1 - v_j / v_1: surface speed loss relative to pulley 1.
     pub slip: f64,
     pub wrap_angle: f64,
+    /// Speed of the rotor behind a decoupler (the pulley's speed without
+    /// one) [rad/s], and the torque the decoupler's clutch transmits in its
+    /// driving sense (>= 0; 0 without one) [N m].
+    pub rotor_omega: f64,
+    pub decoupler_torque: f64,
 }
 
 /// Forces on the probe body from each pulley (Figs. 16-18).
@@ -254,6 +259,11 @@ impl Recorder for OutputRecorder<'_> {
         p.belt_torque = belt_torque;
         p.drive_torque = drive_torque;
         p.alpha = alpha;
+    }
+    fn decoupler(&mut self, j: usize, torque: f64, rotor_omega: f64) {
+        let p = &mut self.out.pulleys[j];
+        p.decoupler_torque = torque;
+        p.rotor_omega = rotor_omega;
     }
     fn power(&mut self, _input: f64, dissipated: f64) {
         self.out.power_dissipated = dissipated;
@@ -527,6 +537,9 @@ impl Drive {
             let po = &mut out.pulleys[j];
             po.angle = self.y[o];
             po.omega = self.sys.pulley_speed(j, self.t, &self.y);
+            if self.sys.pulleys[j].decoupler.is_none() {
+                po.rotor_omega = po.omega;
+            }
             po.slip = if v1 != 0.0 {
                 1.0 - surface(j) / v1
             } else {

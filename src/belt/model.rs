@@ -5,9 +5,12 @@
 //! of the chain is banded):
 //! * body i: `[x, y, phi, vx, vy, omega, z]` at `7 i`, z = creep displacement;
 //! * pulley j: `[theta, omega]` at `7 n + 2 j`;
-//! * `[work_in, energy_dissipated]` last.
+//! * `[work_in, energy_dissipated]`;
+//! * per pulley with a decoupler, in pulley order: `[twist, rotor omega]`
+//!   (`elements::decoupler`).
 
 use super::contact::ContactLaw;
+use super::elements::decoupler::Decoupler;
 use super::elements::groove::friction_factor;
 use super::friction::Friction;
 use super::layout::Layout;
@@ -45,6 +48,12 @@ pub struct PulleyConst {
     pub torque_ramp: f64,
     pub omega_ramp: f64,
     pub ramp_time: f64,
+    /// One-way decoupler between hub and rotor, if any, its rotor's inertia
+    /// and 1 / inertia, and the offset of its states [twist, rotor speed].
+    pub decoupler: Option<Decoupler>,
+    pub rotor_inertia: f64,
+    pub rotor_inv_inertia: f64,
+    pub decoupler_offset: usize,
 }
 
 /// Observer of the force evaluation, used for outputs. The hot path uses
@@ -61,6 +70,9 @@ pub trait Recorder {
     fn hub_force(&mut self, _pulley: usize, _fx: f64, _fy: f64) {}
     /// Per pulley: torque of the belt, torque a speed drive must supply, acceleration.
     fn pulley(&mut self, _pulley: usize, _belt_torque: f64, _drive_torque: f64, _alpha: f64) {}
+    /// Per decoupler pulley: the torque its clutch transmits (>= 0, in the
+    /// clutch's driving sense) and the rotor's speed.
+    fn decoupler(&mut self, _pulley: usize, _torque: f64, _rotor_omega: f64) {}
     fn power(&mut self, _input: f64, _dissipated: f64) {}
 }
 
@@ -74,6 +86,8 @@ impl Recorder for NoRecord {
 pub struct BeltSystem {
     pub n: usize,
     pub np: usize,
+    /// Pulleys with a decoupler (2 states each, after the energies).
+    pub n_decouplers: usize,
     pub pulleys: [PulleyConst; MAX_PULLEYS],
     pub half_length: f64,
     pub mass: f64,
@@ -452,7 +466,14 @@ impl BeltSystem {
             torque_ramp: 0.0,
             omega_ramp: 0.0,
             ramp_time: 1.0,
+            decoupler: None,
+            rotor_inertia: 0.0,
+            rotor_inv_inertia: 0.0,
+            decoupler_offset: 0,
         };
+        let n = b.n_bodies;
+        let np = params.pulleys.len();
+        let mut n_dec = 0;
         let mut pulleys = [zero; MAX_PULLEYS];
         for (pc, p) in pulleys.iter_mut().zip(&params.pulleys) {
             *pc = PulleyConst {
@@ -470,10 +491,18 @@ impl BeltSystem {
                 torque_ramp: p.torque_ramp,
                 omega_ramp: p.omega_ramp,
                 ramp_time: p.ramp_time,
+                decoupler: p.decoupler.then_some(Decoupler {
+                    stiffness: p.decoupler_stiffness,
+                    damping: p.decoupler_damping,
+                    sense: if p.decoupler_clockwise { -1.0 } else { 1.0 },
+                }),
+                rotor_inertia: p.rotor_inertia,
+                rotor_inv_inertia: 1.0 / p.rotor_inertia,
+                decoupler_offset: BODY_DOF * n + 2 * np + 2 + 2 * n_dec,
             };
+            n_dec += usize::from(p.decoupler);
         }
         let f = &params.friction;
-        let n = b.n_bodies;
         let mut zone_factor = vec![1.0; n];
         for k in 0..f.zone_bodies {
             zone_factor[(f.zone_start + k) % n] = f.zone_factor;
@@ -481,7 +510,8 @@ impl BeltSystem {
         let c = &params.contact;
         Self {
             n,
-            np: params.pulleys.len(),
+            np,
+            n_decouplers: n_dec,
             pulleys,
             half_length: 0.5 * l,
             mass,
@@ -509,7 +539,7 @@ impl BeltSystem {
     }
 
     pub fn dim(&self) -> usize {
-        BODY_DOF * self.n + 2 * self.np + 2
+        BODY_DOF * self.n + 2 * self.np + 2 + 2 * self.n_decouplers
     }
 
     pub fn pulley_offset(&self, j: usize) -> usize {
@@ -675,18 +705,40 @@ impl BeltSystem {
             let o = self.pulley_offset(j);
             let w = omega_p[j];
             let applied = self.applied_torque(j, t);
-            let load = pc.load_damping * w;
             dy[o] = w;
+            // The hub's own torques: the load acts on the hub, or through a
+            // decoupler on its rotor (then the hub carries the clutch's -s M).
+            let hub = if let Some(dc) = &pc.decoupler {
+                let d = pc.decoupler_offset;
+                let (twist, w_r) = (y[d], y[d + 1]);
+                let rel = dc.relative_rate(w, w_r);
+                let law = dc.law(twist, rel);
+                let m = dc.sense * law.torque;
+                let load = pc.load_damping * w_r;
+                dy[d] = law.twist_rate;
+                dy[d + 1] = (applied + m - load) * pc.rotor_inv_inertia;
+                p_in += applied * w_r;
+                // the clutch's power M w less the spring's energy rate
+                p_diss += load * w_r + law.torque * rel - dc.stiffness * twist * law.twist_rate;
+                if R::ACTIVE {
+                    rec.decoupler(j, law.torque, w_r);
+                }
+                -m
+            } else {
+                let load = pc.load_damping * w;
+                p_in += applied * w;
+                p_diss += load * w;
+                applied - load
+            };
             let (alpha, drive) = if pc.speed_driven {
                 let alpha = self.prescribed_speed(j, t).1;
-                let drive = pc.inertia * alpha - belt_torque[j] - applied + load;
+                let drive = pc.inertia * alpha - belt_torque[j] - hub;
                 (alpha, drive)
             } else {
-                ((applied - load + belt_torque[j]) * pc.inv_inertia, 0.0)
+                ((hub + belt_torque[j]) * pc.inv_inertia, 0.0)
             };
             dy[o + 1] = alpha;
-            p_in += (applied + drive) * w;
-            p_diss += load * w;
+            p_in += drive * w;
             if R::ACTIVE {
                 rec.pulley(j, belt_torque[j], drive, alpha);
             }
@@ -961,8 +1013,14 @@ impl BeltSystem {
             pot += 0.5 * self.k_bend * dphi * dphi;
         }
         for j in 0..self.np {
+            let pc = &self.pulleys[j];
             let w = y[self.pulley_offset(j) + 1];
-            kin += 0.5 * self.pulleys[j].inertia * w * w;
+            kin += 0.5 * pc.inertia * w * w;
+            if let Some(dc) = &pc.decoupler {
+                let d = pc.decoupler_offset;
+                kin += 0.5 * pc.rotor_inertia * y[d + 1] * y[d + 1];
+                pot += dc.energy(y[d]);
+            }
         }
         (kin, pot)
     }

@@ -68,6 +68,18 @@ pub struct PulleyParams {
     /// ribs carry friction with mu / sin(beta); the belt's back on a
     /// back-side idler stays flat (`elements::groove`).
     pub groove_angle: f64,
+    /// A one-way decoupler sits between the hub (which the belt drives) and
+    /// a rotor; the load torque, input torque and load damping act on the
+    /// rotor (`elements::decoupler`).
+    pub decoupler: bool,
+    /// Decoupler spring [N m/rad] and damper [N m s/rad] (> 0).
+    pub decoupler_stiffness: f64,
+    pub decoupler_damping: f64,
+    /// The clutch drives the rotor clockwise (negative omega) instead of
+    /// counterclockwise.
+    pub decoupler_clockwise: bool,
+    /// Rotor moment of inertia [kg m^2].
+    pub rotor_inertia: f64,
     /// The pulley follows a prescribed speed instead of eq. 24.
     pub speed_driven: bool,
     /// Resistance torque -load_damping * omega [N m s/rad] (Fig. 13).
@@ -92,6 +104,11 @@ impl PulleyParams {
             mu_kinetic: 1.0,
             back_side: false,
             groove_angle: 0.0,
+            decoupler: false,
+            decoupler_stiffness: 30.0,
+            decoupler_damping: 0.02,
+            decoupler_clockwise: false,
+            rotor_inertia: 3e-3,
             speed_driven: false,
             load_damping: 0.0,
             torque_ramp: 0.0,
@@ -276,6 +293,11 @@ impl DriveParams {
             mu_kinetic: 0.8,
             back_side: false,
             groove_angle: 0.0,
+            decoupler: false,
+            decoupler_stiffness: 30.0,
+            decoupler_damping: 0.02,
+            decoupler_clockwise: false,
+            rotor_inertia: 3e-3,
             speed_driven: false,
             load_damping: 0.0,
             torque_ramp: 0.0,
@@ -483,6 +505,17 @@ impl DriveParams {
                 ),
                 g,
             )?;
+            if p.decoupler {
+                positive(&n("decoupler.stiffness"), p.decoupler_stiffness)?;
+                check(
+                    p.decoupler_damping.is_finite() && p.decoupler_damping > 0.0,
+                    &n("decoupler.damping"),
+                    "finite and > 0 when pulley[j].decoupler is set (the spring \
+                     relaxes through it while the clutch overruns; e.g. 0.02 N m s/rad)",
+                    p.decoupler_damping,
+                )?;
+                positive(&n("rotor.inertia"), p.rotor_inertia)?;
+            }
         }
         Ok(())
     }
