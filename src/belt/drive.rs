@@ -286,6 +286,8 @@ fn relax_into_equilibrium(sys: &BeltSystem, y: &mut [f64], max_steps: u64) {
         p.mu_k = 0.0;
         p.speed_driven = true;
         p.omega_ramp = 0.0;
+        // a decoupler's rotor stays at rest too
+        p.torque_ramp = 0.0;
     }
     relax.inputs = Inputs::default();
     // Contact mode of one body: stiffness dN/dp at the typical penetration.
@@ -321,6 +323,12 @@ fn relax_into_equilibrium(sys: &BeltSystem, y: &mut [f64], max_steps: u64) {
     let e = relax.energy_offset();
     y[e] = 0.0;
     y[e + 1] = 0.0;
+    for p in &relax.pulleys[..relax.np] {
+        if p.decoupler.is_some() {
+            y[p.decoupler_offset] = 0.0;
+            y[p.decoupler_offset + 1] = 0.0;
+        }
+    }
 }
 
 /// Step-count guard of the equilibrium relaxation.
