@@ -706,8 +706,9 @@ impl BeltSystem {
             let w = omega_p[j];
             let applied = self.applied_torque(j, t);
             dy[o] = w;
-            // The hub's own torques: the load acts on the hub, or through a
-            // decoupler on its rotor (then the hub carries the clutch's -s M).
+            // The hub's own torques (their sum, the applied torque and the
+            // load): the load acts on the hub, or through a decoupler on its
+            // rotor (then the hub carries the clutch's -s M).
             let hub = if let Some(dc) = &pc.decoupler {
                 let d = pc.decoupler_offset;
                 let (twist, w_r) = (y[d], y[d + 1]);
@@ -723,22 +724,26 @@ impl BeltSystem {
                 if R::ACTIVE {
                     rec.decoupler(j, law.torque, w_r);
                 }
-                -m
+                (-m, 0.0, 0.0)
             } else {
                 let load = pc.load_damping * w;
-                p_in += applied * w;
                 p_diss += load * w;
-                applied - load
+                (applied - load, applied, load)
             };
+            let (hub, hub_applied, hub_load) = hub;
             let (alpha, drive) = if pc.speed_driven {
                 let alpha = self.prescribed_speed(j, t).1;
-                let drive = pc.inertia * alpha - belt_torque[j] - hub;
+                let drive = if pc.decoupler.is_some() {
+                    pc.inertia * alpha - belt_torque[j] - hub
+                } else {
+                    pc.inertia * alpha - belt_torque[j] - hub_applied + hub_load
+                };
                 (alpha, drive)
             } else {
                 ((hub + belt_torque[j]) * pc.inv_inertia, 0.0)
             };
             dy[o + 1] = alpha;
-            p_in += drive * w;
+            p_in += (hub_applied + drive) * w;
             if R::ACTIVE {
                 rec.pulley(j, belt_torque[j], drive, alpha);
             }

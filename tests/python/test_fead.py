@@ -63,6 +63,11 @@ def test_the_clutch_drives_the_rotor(runs):
     r = res[1]
     load = start["pulley[3].loadDamping"] * abs(window(r, "pulley[3].rotor.omega").mean())
     assert window(r, "pulley[3].decoupler.torque").mean() == pytest.approx(load, rel=0.05)
+    # engaged, the clutch does not slip: equal mean speeds, but for the
+    # rotor's own oscillation on the decoupler spring (10.6 Hz, damping
+    # ratio 0.07), which the end of the run-up at 0.5 s sets off and which a
+    # 0.1 s window does not average out (0.12 % measured); an overrunning
+    # rotor runs percent ahead
     assert window(r, "pulley[3].rotor.omega").mean() == pytest.approx(
-        window(r, "pulley[3].omega").mean(), rel=1e-3)
+        window(r, "pulley[3].omega").mean(), rel=3e-3)
     assert np.all(np.isfinite(r["span[3].midDeflection"]))
