@@ -155,10 +155,10 @@ fn scenarios() -> Vec<(&'static str, Vec<(&'static str, Value)>)> {
             vec![("pulley[1].grooveAngle", Real(PI))],
         ),
         (
-            "grooved back-side idler (stays flat)",
+            "40 deg grooves on both pulleys",
             vec![
-                ("pulley[2].backSide", Boolean(true)),
-                ("pulley[2].grooveAngle", Real(0.7)),
+                ("pulley[1].grooveAngle", Real(0.698)),
+                ("pulley[2].grooveAngle", Real(0.698)),
             ],
         ),
     ]
