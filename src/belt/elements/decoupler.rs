@@ -15,14 +15,15 @@
 //! * overrunning (u < 0): M = 0, delta' = -k delta / d.
 //!
 //! The clutch is regularised over the torque band eps = [`CLUTCH_BAND`]:
-//! g(u) = 0 (u <= 0), u^2 / (2 eps) (0 < u < eps), u - eps/2 (u >= eps);
+//! g(u) = 0 (u <= 0), u^2 (2 eps - u) / eps^2 (0 < u < eps), u (u >= eps);
 //! g is continuously differentiable and 0 <= g(u) <= max(u, 0), so the
 //! dissipated power M w - k delta delta' = ((M - k delta)^2 + M (u - M)) / d
-//! is never negative.
+//! is never negative, and engaged beyond the band the clutch transmits the
+//! spring-damper's torque exactly (delta' = w: no creep of the spring at a
+//! steady load).
 
 /// Torque band over which the one-way clutch engages [N m]: a thousandth
-/// of an alternator's typical 5-20 N m drag, so a decoupler transmits at
-/// most eps/2 = 5 mN m less than the spring-damper's torque.
+/// of an alternator's typical 5-20 N m drag.
 pub const CLUTCH_BAND: f64 = 1e-2;
 
 /// Constants of one decoupler.
@@ -51,12 +52,13 @@ pub struct DecouplerLaw {
 
 /// Regularised one-way clutch g(u) and its slope.
 fn clutch(u: f64) -> (f64, f64) {
+    let e = CLUTCH_BAND;
     if u <= 0.0 {
         (0.0, 0.0)
-    } else if u < CLUTCH_BAND {
-        (0.5 * u * u / CLUTCH_BAND, u / CLUTCH_BAND)
+    } else if u < e {
+        (u * u * (2.0 * e - u) / (e * e), u * (4.0 * e - 3.0 * u) / (e * e))
     } else {
-        (u - 0.5 * CLUTCH_BAND, 1.0)
+        (u, 1.0)
     }
 }
 
@@ -68,13 +70,15 @@ impl Decoupler {
         let u = k * twist + d * w;
         let (m, g1) = clutch(u);
         // (M - k delta) / d, written without cancellation: -k delta / d
-        // while overrunning, w - (u - M) / d while engaged (u - M <= eps/2)
+        // while overrunning, w - (u - M) / d in the band, w beyond it
+        let e = CLUTCH_BAND;
         let twist_rate = if u <= 0.0 {
             -k * twist / d
-        } else if u < CLUTCH_BAND {
-            w - u * (1.0 - 0.5 * u / CLUTCH_BAND) / d
+        } else if u < e {
+            let r = u * (e - u) * (e - u) / (e * e);
+            w - r / d
         } else {
-            w - 0.5 * CLUTCH_BAND / d
+            w
         };
         DecouplerLaw {
             torque: m,
@@ -156,8 +160,9 @@ mod tests {
     fn one_way_and_dissipative() {
         let c = dec();
         let l = c.law(0.1, 2.0);
-        assert!((l.torque - (3.0 + 0.04 - 0.5 * CLUTCH_BAND)).abs() < 1e-12);
-        assert!((l.twist_rate - (l.torque - 3.0) / 0.02).abs() < 1e-9);
+        // engaged: the spring-damper's torque exactly, the spring follows w
+        assert!((l.torque - (3.0 + 0.04)).abs() < 1e-12);
+        assert_eq!(l.twist_rate, 2.0);
         let o = c.law(0.02, -95.0);
         assert_eq!(o.torque, 0.0);
         assert!((o.twist_rate + 30.0 * 0.02 / 0.02).abs() < 1e-12);
