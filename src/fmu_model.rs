@@ -7,12 +7,13 @@ use crate::belt::drive::Outputs;
 use crate::belt::params::{FrictionLaw, Method, PulleyParams, MAX_PULLEYS};
 use crate::belt::rkf45::Stats;
 use crate::belt::{Drive, DriveParams, Inputs};
-use crate::fmi::{FmuModel, StepError};
-use crate::variables::{Start, Var, VarInfo, VARIABLES};
+use crate::fmi::{FmuModel, ModelDescription, StepError};
+use crate::variables::{Start, Var, VarInfo, VarType, MODEL_DESCRIPTION, VARIABLES};
 
-/// Integer parameters as the user set them; checked when the drive is built
-/// so the message can name the variable and its range.
-#[derive(Clone, Debug, PartialEq)]
+/// Integer parameters as the user set them; checked against the ranges of
+/// the model description when the drive is built, so the message can name
+/// the variable and its range.
+#[derive(Clone, Debug, Default, PartialEq)]
 struct IntegerParams {
     n_pulleys: i32,
     n_bodies: i32,
@@ -39,32 +40,91 @@ fn range_error(name: &str, allowed: &str, got: impl std::fmt::Display) -> String
     format!("{name} must be {allowed} (got {got})")
 }
 
+/// The field behind a Real parameter (every pulley slot, used or not).
+fn real_slot<'a>(p: &'a mut DriveParams, v: &VarInfo) -> Option<&'a mut f64> {
+    let j = v.index;
+    Some(match v.var {
+        Var::BeltPreload => &mut p.belt.preload,
+        Var::BeltEA => &mut p.belt.ea,
+        Var::BeltAxialDamping => &mut p.belt.axial_damping,
+        Var::BeltBendingStiffness => &mut p.belt.bending_stiffness,
+        Var::BeltBendingDamping => &mut p.belt.bending_damping,
+        Var::BeltMassPerLength => &mut p.belt.mass_per_length,
+        Var::Gravity => &mut p.gravity,
+        Var::ContactC1 => &mut p.contact.c1,
+        Var::ContactC2 => &mut p.contact.c2,
+        Var::ContactDamping => &mut p.contact.damping,
+        Var::ContactPMax => &mut p.contact.p_max,
+        Var::FrictionDv => &mut p.friction.dv,
+        Var::FrictionCreepMax => &mut p.friction.creep_max,
+        Var::FrictionCreepDampingTime => &mut p.friction.creep_damping_time,
+        Var::FrictionZoneFactor => &mut p.friction.zone_factor,
+        Var::SolverRelTol => &mut p.solver.rel_tol,
+        Var::SolverAbsTol => &mut p.solver.abs_tol,
+        Var::SolverInitialStep => &mut p.solver.initial_step,
+        Var::PulleyX => &mut p.pulleys[j].x,
+        Var::PulleyY => &mut p.pulleys[j].y,
+        Var::PulleyRadius => &mut p.pulleys[j].radius,
+        Var::PulleyInertia => &mut p.pulleys[j].inertia,
+        Var::PulleyMuStatic => &mut p.pulleys[j].mu_static,
+        Var::PulleyMuKinetic => &mut p.pulleys[j].mu_kinetic,
+        Var::PulleyLoadDamping => &mut p.pulleys[j].load_damping,
+        Var::PulleyTorqueRamp => &mut p.pulleys[j].torque_ramp,
+        Var::PulleyOmegaRamp => &mut p.pulleys[j].omega_ramp,
+        Var::PulleyRampTime => &mut p.pulleys[j].ramp_time,
+        Var::PulleyGrooveAngle => &mut p.pulleys[j].groove_angle,
+        Var::PulleyDecouplerStiffness => &mut p.pulleys[j].decoupler_stiffness,
+        Var::PulleyDecouplerDamping => &mut p.pulleys[j].decoupler_damping,
+        Var::PulleyRotorInertia => &mut p.pulleys[j].rotor_inertia,
+        _ => return None,
+    })
+}
+
+/// The field behind an Integer parameter.
+fn int_slot<'a>(i: &'a mut IntegerParams, v: &VarInfo) -> Option<&'a mut i32> {
+    Some(match v.var {
+        Var::NPulleys => &mut i.n_pulleys,
+        Var::BeltNBodies => &mut i.n_bodies,
+        Var::FrictionLaw => &mut i.friction_law,
+        Var::FrictionZoneStart => &mut i.zone_start,
+        Var::FrictionZoneBodies => &mut i.zone_bodies,
+        Var::ProbeBody => &mut i.probe_body,
+        Var::SolverMethod => &mut i.method,
+        Var::SolverMaxSteps => &mut i.max_steps,
+        _ => return None,
+    })
+}
+
 impl BeltDrive {
     /// The physics parameters with the integer ones checked and applied
     /// (public for tests that compare parameter sets with `DriveParams`).
     pub fn drive_params(&self) -> Result<DriveParams, String> {
         let i = &self.ints;
         let mut p = self.params.clone();
-        if !(2..=MAX_PULLEYS as i32).contains(&i.n_pulleys) {
-            return Err(range_error("nPulleys", "in 2..=6", i.n_pulleys));
+        // Every min/max of the model description (the ranges importers are
+        // shown), in XML order; for all pulley slots, used or not.
+        let mut ints = i.clone();
+        for v in VARIABLES
+            .iter()
+            .filter(|v| v.min.is_some() || v.max.is_some())
+        {
+            let x = match v.ty {
+                VarType::Real => real_slot(&mut p, v).map(|x| *x),
+                VarType::Integer => int_slot(&mut ints, v).map(|&mut x| f64::from(x)),
+                _ => None,
+            };
+            if let Some(x) = x {
+                v.check_range(x)?;
+            }
         }
         p.pulleys.truncate(i.n_pulleys as usize);
-        if i.n_bodies < 3 {
-            return Err(range_error("belt.nBodies", ">= 3", i.n_bodies));
-        }
         p.belt.n_bodies = i.n_bodies as usize;
         p.friction.law = FrictionLaw::from_code(i.friction_law).ok_or_else(|| {
             range_error("friction.law", "1 (kubas2014) or 2 (creep)", i.friction_law)
         })?;
-        if i.zone_start < 1 {
-            return Err(range_error("friction.zoneStart", ">= 1", i.zone_start));
-        }
         p.friction.zone_start = (i.zone_start - 1) as usize;
-        if i.zone_bodies < 0 {
-            return Err(range_error("friction.zoneBodies", ">= 0", i.zone_bodies));
-        }
         p.friction.zone_bodies = i.zone_bodies as usize;
-        if i.probe_body < 1 || i.probe_body > i.n_bodies {
+        if i.probe_body > i.n_bodies {
             return Err(range_error(
                 "probe.body",
                 &format!("in 1..={}", i.n_bodies),
@@ -79,9 +139,6 @@ impl BeltDrive {
                 i.method,
             )
         })?;
-        if i.max_steps < 1 {
-            return Err(range_error("solver.maxSteps", ">= 1", i.max_steps));
-        }
         p.solver.max_steps = i.max_steps as u64;
         Ok(p)
     }
@@ -119,58 +176,11 @@ impl BeltDrive {
     }
 
     fn real_param(&mut self, v: &VarInfo) -> Option<&mut f64> {
-        let p = &mut self.params;
-        let j = v.index;
-        Some(match v.var {
-            Var::BeltPreload => &mut p.belt.preload,
-            Var::BeltEA => &mut p.belt.ea,
-            Var::BeltAxialDamping => &mut p.belt.axial_damping,
-            Var::BeltBendingStiffness => &mut p.belt.bending_stiffness,
-            Var::BeltBendingDamping => &mut p.belt.bending_damping,
-            Var::BeltMassPerLength => &mut p.belt.mass_per_length,
-            Var::Gravity => &mut p.gravity,
-            Var::ContactC1 => &mut p.contact.c1,
-            Var::ContactC2 => &mut p.contact.c2,
-            Var::ContactDamping => &mut p.contact.damping,
-            Var::ContactPMax => &mut p.contact.p_max,
-            Var::FrictionDv => &mut p.friction.dv,
-            Var::FrictionCreepMax => &mut p.friction.creep_max,
-            Var::FrictionCreepDampingTime => &mut p.friction.creep_damping_time,
-            Var::FrictionZoneFactor => &mut p.friction.zone_factor,
-            Var::SolverRelTol => &mut p.solver.rel_tol,
-            Var::SolverAbsTol => &mut p.solver.abs_tol,
-            Var::SolverInitialStep => &mut p.solver.initial_step,
-            Var::PulleyX => &mut p.pulleys[j].x,
-            Var::PulleyY => &mut p.pulleys[j].y,
-            Var::PulleyRadius => &mut p.pulleys[j].radius,
-            Var::PulleyInertia => &mut p.pulleys[j].inertia,
-            Var::PulleyMuStatic => &mut p.pulleys[j].mu_static,
-            Var::PulleyMuKinetic => &mut p.pulleys[j].mu_kinetic,
-            Var::PulleyLoadDamping => &mut p.pulleys[j].load_damping,
-            Var::PulleyTorqueRamp => &mut p.pulleys[j].torque_ramp,
-            Var::PulleyOmegaRamp => &mut p.pulleys[j].omega_ramp,
-            Var::PulleyRampTime => &mut p.pulleys[j].ramp_time,
-            Var::PulleyGrooveAngle => &mut p.pulleys[j].groove_angle,
-            Var::PulleyDecouplerStiffness => &mut p.pulleys[j].decoupler_stiffness,
-            Var::PulleyDecouplerDamping => &mut p.pulleys[j].decoupler_damping,
-            Var::PulleyRotorInertia => &mut p.pulleys[j].rotor_inertia,
-            _ => return None,
-        })
+        real_slot(&mut self.params, v)
     }
 
     fn int_param(&mut self, v: &VarInfo) -> Option<&mut i32> {
-        let i = &mut self.ints;
-        Some(match v.var {
-            Var::NPulleys => &mut i.n_pulleys,
-            Var::BeltNBodies => &mut i.n_bodies,
-            Var::FrictionLaw => &mut i.friction_law,
-            Var::FrictionZoneStart => &mut i.zone_start,
-            Var::FrictionZoneBodies => &mut i.zone_bodies,
-            Var::ProbeBody => &mut i.probe_body,
-            Var::SolverMethod => &mut i.method,
-            Var::SolverMaxSteps => &mut i.max_steps,
-            _ => return None,
-        })
+        int_slot(&mut self.ints, v)
     }
 
     fn bool_param(&mut self, v: &VarInfo) -> Option<&mut bool> {
@@ -241,6 +251,14 @@ impl BeltDrive {
 }
 
 impl FmuModel for BeltDrive {
+    type Var = Var;
+
+    const STATE_MAGIC: [u8; 8] = *b"BELTFMU\0";
+
+    fn description() -> &'static ModelDescription<Var> {
+        &MODEL_DESCRIPTION
+    }
+
     fn new() -> Self {
         let mut params = DriveParams::kubas_section4();
         params
@@ -248,16 +266,7 @@ impl FmuModel for BeltDrive {
             .resize(MAX_PULLEYS, PulleyParams::paper_5pk(0.0, 0.0));
         let mut model = Self {
             params,
-            ints: IntegerParams {
-                n_pulleys: 2,
-                n_bodies: 150,
-                friction_law: 2,
-                zone_start: 1,
-                zone_bodies: 0,
-                probe_body: 108,
-                method: 1,
-                max_steps: 100_000,
-            },
+            ints: IntegerParams::default(),
             inputs: Inputs::default(),
             start_time: 0.0,
             drive: None,
@@ -602,5 +611,96 @@ mod snapshot {
             return Err(format!("model state has {} trailing bytes", r.0.len()));
         }
         Ok(m)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::belt::params::MAX_BODIES;
+    use crate::variables::{by_name, Causality};
+
+    /// The scalar variable `var` of the model description.
+    fn info(var: Var) -> &'static VarInfo {
+        VARIABLES.iter().find(|v| v.var == var).unwrap()
+    }
+
+    /// The ranges the model description shows importers are the core's.
+    #[test]
+    fn declared_ranges_match_the_core() {
+        let n = info(Var::NPulleys);
+        assert_eq!((n.min, n.max), (Some(2.0), Some(MAX_PULLEYS as f64)));
+        let b = info(Var::BeltNBodies);
+        assert_eq!((b.min, b.max), (Some(3.0), Some(MAX_BODIES as f64)));
+        assert_eq!(
+            (info(Var::SolverMethod).min, info(Var::SolverMethod).max),
+            (Some(1.0), Some(2.0))
+        );
+    }
+
+    /// A fresh model holds every start value of the model description.
+    #[test]
+    fn start_values_are_the_defaults() {
+        let mut m = BeltDrive::new();
+        for v in VARIABLES {
+            match v.start {
+                Start::Real(x) => assert_eq!(m.get_real(v).unwrap(), x, "{}", v.name),
+                Start::Integer(x) => assert_eq!(m.get_integer(v).unwrap(), x, "{}", v.name),
+                Start::Boolean(x) => assert_eq!(m.get_boolean(v).unwrap(), x, "{}", v.name),
+                _ => {}
+            }
+        }
+    }
+
+    #[test]
+    fn integer_ranges_come_from_the_table() {
+        let mut m = BeltDrive::new();
+        m.set_integer(info(Var::NPulleys), 7).unwrap();
+        assert_eq!(
+            m.drive_params().unwrap_err(),
+            "nPulleys must be in 2..=6 (got 7)"
+        );
+        let mut m = BeltDrive::new();
+        m.set_integer(info(Var::FrictionZoneBodies), -1).unwrap();
+        assert_eq!(
+            m.drive_params().unwrap_err(),
+            "friction.zoneBodies must be >= 0 (got -1)"
+        );
+        let mut m = BeltDrive::new();
+        m.set_integer(info(Var::ProbeBody), 151).unwrap();
+        assert_eq!(
+            m.drive_params().unwrap_err(),
+            "probe.body must be in 1..=150 (got 151)"
+        );
+    }
+
+    /// Every declared bound of every parameter is enforced: a value just
+    /// outside it is refused with the variable's name.
+    #[test]
+    fn every_declared_range_is_checked() {
+        let bounded = VARIABLES
+            .iter()
+            .filter(|v| v.causality == Causality::Parameter)
+            .filter(|v| v.min.is_some() || v.max.is_some());
+        let mut n = 0;
+        for v in bounded {
+            for (bound, step) in [(v.min, -1.0), (v.max, 1.0)] {
+                let Some(b) = bound else { continue };
+                let outside = match v.ty {
+                    VarType::Integer => b + step,
+                    _ => b + step * b.abs().max(1.0) * 1e-6,
+                };
+                let mut m = BeltDrive::new();
+                match v.ty {
+                    VarType::Integer => m.set_integer(v, outside as i32).unwrap(),
+                    _ => m.set_real(v, outside).unwrap(),
+                }
+                let e = m.drive_params().unwrap_err();
+                assert!(e.starts_with(&format!("{} must be", v.name)), "{e}");
+                n += 1;
+            }
+        }
+        assert!(n >= 11, "{n} bounds checked");
+        assert!(by_name("nPulleys").unwrap().max.is_some());
     }
 }

@@ -13,3 +13,6 @@ pub mod belt;
 pub mod fmi;
 pub mod fmu_model;
 pub mod variables;
+
+// The FMU's C functions, for its one model.
+export_fmi2_co_simulation!(fmu_model::BeltDrive);

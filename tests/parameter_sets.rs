@@ -13,38 +13,16 @@ use belt_drive::belt::{Drive, DriveParams};
 use belt_drive::fmi::FmuModel;
 use belt_drive::fmu_model::BeltDrive;
 use belt_drive::variables::{by_name, Causality, VarType};
-use quick_xml::events::Event;
-use quick_xml::Reader;
+use model_description::ssv;
 
 /// (name, element, value) of every `ssv:Parameter` in an .ssv file.
 fn read_ssv(path: &Path) -> Vec<(String, String, String)> {
     let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{path:?}: {e}"));
-    let mut reader = Reader::from_str(&text);
-    let mut out = Vec::new();
-    let mut name = None;
-    loop {
-        match reader.read_event().expect("well-formed XML") {
-            Event::Start(e) | Event::Empty(e) => {
-                let attr = |key: &str| {
-                    e.try_get_attribute(key)
-                        .unwrap()
-                        .map(|a| a.unescape_value().unwrap().into_owned())
-                };
-                match e.name().as_ref() {
-                    b"ssv:Parameter" => name = attr("name"),
-                    b"ssv:Real" | b"ssv:Integer" | b"ssv:Boolean" => {
-                        let kind = String::from_utf8(e.name().as_ref()[4..].to_vec()).unwrap();
-                        let n = name.take().expect("value inside ssv:Parameter");
-                        out.push((n, kind, attr("value").expect("value attribute")));
-                    }
-                    _ => {}
-                }
-            }
-            Event::Eof => break,
-            _ => {}
-        }
-    }
-    out
+    ssv::read(&text)
+        .unwrap_or_else(|e| panic!("{path:?}: {e}"))
+        .into_iter()
+        .map(|p| (p.name, p.ty, p.value))
+        .collect()
 }
 
 /// A fresh adapter with every parameter of the file set, as an importer

@@ -11,12 +11,12 @@ use std::ffi::{c_char, c_int, CStr};
 use std::panic::{self, AssertUnwindSafe};
 use std::ptr;
 
+use super::description::VarType;
 use super::instance::{allowed, Instance};
 use super::logging::{self, Logger, LOG_EVENTS, LOG_STATUS_DISCARD, LOG_STATUS_ERROR};
 use super::model::FmuModel;
 use super::state::Snapshot;
 use super::types::*;
-use crate::variables::{VarType, GUID};
 
 /// Run `body` on the instance behind `c`; map `Err` and panics to fmi2Error.
 ///
@@ -108,10 +108,12 @@ unsafe fn string<'a>(p: *const c_char, what: &str) -> Result<&'a str, String> {
         .map_err(|_| format!("{what} is not valid UTF-8"))
 }
 
+/// fmi2GetTypesPlatform: `"default"` (the standard C types).
 pub fn get_types_platform() -> Fmi2String {
     c"default".as_ptr()
 }
 
+/// fmi2GetVersion: `"2.0"`.
 pub fn get_version() -> Fmi2String {
     c"2.0".as_ptr()
 }
@@ -178,17 +180,23 @@ pub unsafe fn instantiate<M: FmuModel>(
             );
         }
         // SAFETY: NULL or a NUL-terminated string per FMI 2.0.
+        let guid = M::description().guid;
         match unsafe { string(fmu_guid, "fmuGUID") } {
-            Ok(g) if g == GUID => {}
+            Ok(g) if g == guid => {}
             Ok(g) => {
                 return refuse(
                     name,
-                    format!("fmuGUID {g} does not match this binary's GUID {GUID} (the modelDescription.xml belongs to another build)"),
+                    format!("fmuGUID {g} does not match this binary's GUID {guid} (the modelDescription.xml belongs to another build)"),
                 )
             }
             Err(e) => return refuse(name, e),
         }
-        let logger = Logger::new(callbacks, logging::c_string(name), logging_on != FMI2_FALSE);
+        let logger = Logger::new(
+            callbacks,
+            logging::c_string(name),
+            logging_on != FMI2_FALSE,
+            M::description().log_categories,
+        );
         let inst = Instance::<M>::new(logger);
         inst.logger.log(Fmi2Status::Ok, LOG_EVENTS, "instantiated");
         Box::into_raw(Box::new(inst)) as Fmi2Component
@@ -267,9 +275,13 @@ pub unsafe fn setup_experiment<M: FmuModel>(
 /// Life-cycle functions without arguments.
 #[derive(Clone, Copy)]
 pub enum Transition {
+    /// fmi2EnterInitializationMode.
     EnterInitializationMode,
+    /// fmi2ExitInitializationMode.
     ExitInitializationMode,
+    /// fmi2Terminate.
     Terminate,
+    /// fmi2Reset.
     Reset,
 }
 
@@ -694,7 +706,9 @@ pub unsafe fn cancel_step<M: FmuModel>(c: Fmi2Component) -> Fmi2Status {
 
 /// Status information that an fmi2GetXXXStatus call can deliver.
 pub enum StatusValue {
+    /// `fmi2LastSuccessfulTime`: the current communication point.
     LastSuccessfulTime(f64),
+    /// `fmi2Terminated`: whether the model asks to stop.
     Terminated(bool),
 }
 

@@ -21,21 +21,27 @@
 
 use std::ffi::CString;
 
+use super::description::{Causality, VarInfo, VarType, Variability};
 use super::logging::{self, Logger, LOG_ALL, LOG_EVENTS, LOG_STATUS_DISCARD, LOG_STATUS_WARNING};
 use super::model::{FmuModel, StepError};
 use super::state::Registry;
 use super::types::{Fmi2Status, Fmi2String};
-use crate::variables::{Causality, VarInfo, VarType, Variability, VARIABLES};
 
 /// The Co-Simulation states this FMU can be in (see module docs).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[repr(u8)]
 pub enum Mode {
+    /// After fmi2Instantiate or fmi2Reset.
     Instantiated = 1,
+    /// Between fmi2EnterInitializationMode and fmi2ExitInitializationMode.
     InitializationMode = 2,
+    /// Initialized; ready for fmi2DoStep.
     StepComplete = 3,
+    /// fmi2DoStep returned fmi2Discard.
     StepFailed = 4,
+    /// After fmi2Terminate.
     Terminated = 5,
+    /// A function returned fmi2Error.
     Error = 6,
 }
 
@@ -44,6 +50,7 @@ impl Mode {
         1 << (self as u8)
     }
 
+    /// The state with this discriminant (from a serialized FMU state).
     pub fn from_u8(x: u8) -> Option<Mode> {
         [
             Mode::Instantiated,
@@ -64,6 +71,7 @@ impl Mode {
 pub mod allowed {
     use super::Mode::*;
 
+    /// Every state.
     pub const ANY: u8 = Instantiated.bit()
         | InitializationMode.bit()
         | StepComplete.bit()
@@ -73,11 +81,17 @@ pub mod allowed {
     /// fmi2SetDebugLogging, fmi2Reset, fmi2FreeInstance, fmi2Get/Set/FreeFMUstate,
     /// fmi2(De)SerializeFMUstate, fmi2SerializedFMUstateSize.
     pub const SET_DEBUG_LOGGING: u8 = ANY;
+    /// fmi2Reset.
     pub const RESET: u8 = ANY;
+    /// fmi2Get/Set/FreeFMUstate, fmi2(De)SerializeFMUstate, fmi2SerializedFMUstateSize.
     pub const FMU_STATE: u8 = ANY;
+    /// fmi2SetupExperiment.
     pub const SETUP_EXPERIMENT: u8 = Instantiated.bit();
+    /// fmi2EnterInitializationMode.
     pub const ENTER_INITIALIZATION_MODE: u8 = Instantiated.bit();
+    /// fmi2ExitInitializationMode.
     pub const EXIT_INITIALIZATION_MODE: u8 = InitializationMode.bit();
+    /// fmi2Terminate.
     pub const TERMINATE: u8 = StepComplete.bit() | StepFailed.bit();
     /// fmi2GetReal/Integer/Boolean/String and fmi2GetDirectionalDerivative.
     pub const GET: u8 = InitializationMode.bit()
@@ -87,10 +101,13 @@ pub mod allowed {
         | Error.bit();
     /// fmi2SetReal/Integer/Boolean/String (which variables: see `check_settable`).
     pub const SET: u8 = Instantiated.bit() | InitializationMode.bit() | StepComplete.bit();
+    /// fmi2SetRealInputDerivatives.
     pub const SET_REAL_INPUT_DERIVATIVES: u8 =
         Instantiated.bit() | InitializationMode.bit() | StepComplete.bit();
+    /// fmi2GetRealOutputDerivatives.
     pub const GET_REAL_OUTPUT_DERIVATIVES: u8 =
         StepComplete.bit() | StepFailed.bit() | Terminated.bit() | Error.bit();
+    /// fmi2DoStep.
     pub const DO_STEP: u8 = StepComplete.bit();
     /// Only StepInProgress, which this FMU never enters.
     pub const CANCEL_STEP: u8 = 0;
@@ -101,6 +118,7 @@ pub mod allowed {
 /// The plumbing's part of an FMU state (saved and restored with the model).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Plumbing {
+    /// State-machine state.
     pub mode: Mode,
     /// Current communication point (= last successful time).
     pub time: f64,
@@ -125,9 +143,13 @@ pub fn same_time(a: f64, b: f64) -> bool {
     (a - b).abs() <= 1e-9 * a.abs().max(b.abs()).max(1.0)
 }
 
+/// What an `fmi2Component` points to: one instance of model `M`.
 pub struct Instance<M> {
+    /// The importer's logger and the category switches.
     pub logger: Logger,
+    /// State-machine state and times.
     pub plumbing: Plumbing,
+    /// The model.
     pub model: M,
     /// The FMU states handed out and not yet freed (freed with the instance).
     pub states: Registry<M>,
@@ -136,6 +158,7 @@ pub struct Instance<M> {
 }
 
 impl<M: FmuModel> Instance<M> {
+    /// A new instance in Instantiated with a fresh model.
     pub fn new(logger: Logger) -> Self {
         Instance {
             logger,
@@ -146,6 +169,7 @@ impl<M: FmuModel> Instance<M> {
         }
     }
 
+    /// Log `message` in the category of `status`.
     pub fn log(&self, status: Fmi2Status, message: &str) {
         self.logger
             .log(status, logging::category_of(status), message);
@@ -183,6 +207,7 @@ impl<M: FmuModel> Instance<M> {
 
     // -- Life cycle ---------------------------------------------------------
 
+    /// fmi2SetupExperiment.
     pub fn setup_experiment(
         &mut self,
         tolerance: Option<f64>,
@@ -211,6 +236,7 @@ impl<M: FmuModel> Instance<M> {
         Ok(Fmi2Status::Ok)
     }
 
+    /// fmi2EnterInitializationMode.
     pub fn enter_initialization_mode(&mut self) -> Result<Fmi2Status, String> {
         self.check_state(allowed::ENTER_INITIALIZATION_MODE)?;
         self.plumbing.mode = Mode::InitializationMode;
@@ -219,6 +245,7 @@ impl<M: FmuModel> Instance<M> {
         Ok(Fmi2Status::Ok)
     }
 
+    /// fmi2ExitInitializationMode: the model initializes; its warnings are logged.
     pub fn exit_initialization_mode(&mut self) -> Result<Fmi2Status, String> {
         self.check_state(allowed::EXIT_INITIALIZATION_MODE)?;
         // Warnings go to the logger only: some importers stop on a
@@ -237,6 +264,7 @@ impl<M: FmuModel> Instance<M> {
         Ok(Fmi2Status::Ok)
     }
 
+    /// fmi2Terminate.
     pub fn terminate(&mut self) -> Result<Fmi2Status, String> {
         self.check_state(allowed::TERMINATE)?;
         self.plumbing.mode = Mode::Terminated;
@@ -266,11 +294,12 @@ impl<M: FmuModel> Instance<M> {
     // -- Variables ----------------------------------------------------------
 
     /// The variable of type `ty` with value reference `vr`.
-    pub fn variable(ty: VarType, vr: u32) -> Result<&'static VarInfo, String> {
-        if let Some(v) = crate::variables::lookup(ty, vr) {
+    pub fn variable(ty: VarType, vr: u32) -> Result<&'static VarInfo<M::Var>, String> {
+        let description = M::description();
+        if let Some(v) = description.lookup(ty, vr) {
             return Ok(v);
         }
-        Err(match VARIABLES.iter().find(|v| v.vr == vr) {
+        Err(match description.by_vr(vr) {
             Some(v) => format!(
                 "value reference {vr} is the {:?} variable \"{}\", not a {ty:?} variable",
                 v.ty, v.name
@@ -283,7 +312,7 @@ impl<M: FmuModel> Instance<M> {
     /// footnotes of the fmi2SetXXX row): parameters and inputs before and
     /// during initialization; afterwards inputs and tunable parameters only.
     /// Outputs, calculated parameters, locals, constants: never.
-    pub fn check_settable(&self, v: &VarInfo) -> Result<(), String> {
+    pub fn check_settable(&self, v: &VarInfo<M::Var>) -> Result<(), String> {
         let never = match v.causality {
             Causality::Output => Some("an output"),
             Causality::CalculatedParameter => Some("a calculated parameter"),
@@ -319,7 +348,7 @@ impl<M: FmuModel> Instance<M> {
         ty: VarType,
         vrs: &[u32],
         values: &mut [T],
-        get: impl Fn(&mut M, &VarInfo) -> Result<T, String>,
+        get: impl Fn(&mut M, &VarInfo<M::Var>) -> Result<T, String>,
     ) -> Result<Fmi2Status, String> {
         self.check_state(allowed::GET)?;
         for (&vr, value) in vrs.iter().zip(values.iter_mut()) {
@@ -336,7 +365,7 @@ impl<M: FmuModel> Instance<M> {
         ty: VarType,
         vrs: &[u32],
         values: &[T],
-        set: impl Fn(&mut M, &VarInfo, T) -> Result<(), String>,
+        set: impl Fn(&mut M, &VarInfo<M::Var>, T) -> Result<(), String>,
     ) -> Result<Fmi2Status, String> {
         self.check_state(allowed::SET)?;
         for (&vr, &value) in vrs.iter().zip(values) {
@@ -369,6 +398,7 @@ impl<M: FmuModel> Instance<M> {
         Ok(Fmi2Status::Ok)
     }
 
+    /// fmi2SetRealInputDerivatives: inputs only, order >= 1.
     pub fn set_real_input_derivatives(
         &mut self,
         vrs: &[u32],
@@ -394,6 +424,7 @@ impl<M: FmuModel> Instance<M> {
         Ok(Fmi2Status::Ok)
     }
 
+    /// fmi2GetRealOutputDerivatives: outputs only, order >= 1.
     pub fn get_real_output_derivatives(
         &mut self,
         vrs: &[u32],
@@ -422,6 +453,7 @@ impl<M: FmuModel> Instance<M> {
 
     // -- Stepping -----------------------------------------------------------
 
+    /// fmi2DoStep: checks the communication point, step size and stop time, then steps the model.
     pub fn do_step(&mut self, t: f64, h: f64) -> Result<Fmi2Status, String> {
         self.check_state(allowed::DO_STEP)?;
         let now = self.plumbing.time;

@@ -22,15 +22,39 @@
 use std::ffi::{CStr, CString};
 
 use super::types::{Fmi2CallbackFunctions, Fmi2Status};
-use crate::variables::LOG_CATEGORIES;
 
-// Category names used by the plumbing; all listed in <LogCategories>.
+// Category names used by the plumbing; a model's <LogCategories> must list
+// them all (PLUMBING_CATEGORIES).
+/// State changes and other fmi2OK messages.
 pub const LOG_EVENTS: &str = "logEvents";
+/// Messages with status fmi2Warning.
 pub const LOG_STATUS_WARNING: &str = "logStatusWarning";
+/// Messages with status fmi2Discard.
 pub const LOG_STATUS_DISCARD: &str = "logStatusDiscard";
+/// Messages with status fmi2Error.
 pub const LOG_STATUS_ERROR: &str = "logStatusError";
+/// Messages with status fmi2Fatal.
 pub const LOG_STATUS_FATAL: &str = "logStatusFatal";
+/// Every message, including a trace of each call.
 pub const LOG_ALL: &str = "logAll";
+
+/// Every category the plumbing logs in.
+pub const PLUMBING_CATEGORIES: [&str; 6] = [
+    LOG_EVENTS,
+    LOG_STATUS_WARNING,
+    LOG_STATUS_DISCARD,
+    LOG_STATUS_ERROR,
+    LOG_STATUS_FATAL,
+    LOG_ALL,
+];
+
+/// The plumbing's categories missing from a model's `categories`.
+pub fn missing_categories(categories: &[&str]) -> Vec<&'static str> {
+    PLUMBING_CATEGORIES
+        .into_iter()
+        .filter(|c| !categories.contains(c))
+        .collect()
+}
 
 /// The category a message of this status belongs to; `fmi2OK` messages are
 /// events (state changes).
@@ -48,19 +72,29 @@ pub fn category_of(status: Fmi2Status) -> &'static str {
 pub struct Logger {
     callbacks: Fmi2CallbackFunctions,
     instance_name: CString,
-    /// One switch per entry of `LOG_CATEGORIES`.
+    /// The model's `<LogCategories>`.
+    categories: &'static [&'static str],
+    /// One switch per entry of `categories`.
     enabled: Vec<bool>,
 }
 
 impl Logger {
-    pub fn new(callbacks: Fmi2CallbackFunctions, instance_name: CString, logging_on: bool) -> Self {
+    /// A logger for an instance of a model with these `<LogCategories>`.
+    pub fn new(
+        callbacks: Fmi2CallbackFunctions,
+        instance_name: CString,
+        logging_on: bool,
+        categories: &'static [&'static str],
+    ) -> Self {
         Logger {
             callbacks,
             instance_name,
-            enabled: vec![logging_on; LOG_CATEGORIES.len()],
+            categories,
+            enabled: vec![logging_on; categories.len()],
         }
     }
 
+    /// The instance name given to fmi2Instantiate.
     pub fn instance_name(&self) -> &CStr {
         &self.instance_name
     }
@@ -73,13 +107,14 @@ impl Logger {
     ) -> Result<(), String> {
         let mut indices = Vec::with_capacity(categories.len());
         for name in categories {
-            let i = LOG_CATEGORIES
+            let i = self
+                .categories
                 .iter()
                 .position(|c| c == name)
                 .ok_or_else(|| {
                     format!(
                         "unknown log category \"{name}\" (this FMU defines {})",
-                        LOG_CATEGORIES.join(", ")
+                        self.categories.join(", ")
                     )
                 })?;
             indices.push(i);
@@ -97,7 +132,7 @@ impl Logger {
     /// (ignoring the always-forward rule for errors).
     pub fn is_enabled(&self, category: &str) -> bool {
         let on = |name: &str| {
-            LOG_CATEGORIES
+            self.categories
                 .iter()
                 .position(|c| *c == name)
                 .is_some_and(|i| self.enabled[i])
@@ -167,20 +202,12 @@ mod tests {
     use super::*;
 
     #[test]
-    fn plumbing_categories_are_declared() {
-        for c in [
-            LOG_EVENTS,
-            LOG_STATUS_WARNING,
-            LOG_STATUS_DISCARD,
-            LOG_STATUS_ERROR,
-            LOG_STATUS_FATAL,
-            LOG_ALL,
-        ] {
-            assert!(
-                LOG_CATEGORIES.contains(&c),
-                "{c} missing from <LogCategories>"
-            );
-        }
+    fn missing_plumbing_categories_are_found() {
+        assert!(missing_categories(&PLUMBING_CATEGORIES).is_empty());
+        assert_eq!(
+            missing_categories(&[LOG_EVENTS, "logOther"]),
+            &PLUMBING_CATEGORIES[1..]
+        );
     }
 
     fn logger(on: bool) -> Logger {
@@ -191,7 +218,7 @@ mod tests {
             step_finished: None,
             component_environment: std::ptr::null_mut(),
         };
-        Logger::new(callbacks, c_string("test"), on)
+        Logger::new(callbacks, c_string("test"), on, &PLUMBING_CATEGORIES)
     }
 
     #[test]

@@ -1,12 +1,13 @@
 //! The small interface between the FMI plumbing and a model.
 //!
 //! The plumbing (state machine, argument checks, logging, FMU-state framing)
-//! lives in this module tree and is generic over [`FmuModel`]; the model
-//! (`crate::fmu_model`) implements it. Causality/variability rules and the
+//! lives in this module tree and is generic over [`FmuModel`]; a model
+//! implements it and hands over its identity and variable table through
+//! [`FmuModel::description`]. Causality/variability rules and the
 //! call-sequence rules are enforced by the plumbing *before* these methods
 //! are called, so an implementation only maps variables onto its data.
 
-use crate::variables::VarInfo;
+use super::description::{ModelDescription, VarInfo};
 
 /// Why a communication step could not be completed.
 #[derive(Debug, Clone, PartialEq)]
@@ -21,6 +22,17 @@ pub enum StepError {
 
 /// A co-simulation model behind the FMI 2.0 C API.
 pub trait FmuModel: Clone + Send + Sized + 'static {
+    /// The model's key for a variable (`VarInfo::var`).
+    type Var: Copy + std::fmt::Debug + Send + Sync + 'static;
+
+    /// The first 8 bytes of this model's serialized FMU states (tells a
+    /// state of this model from any other bytes).
+    const STATE_MAGIC: [u8; 8];
+
+    /// The model's identity (model identifier, GUID, log categories) and
+    /// its variable table, generated from its model description.
+    fn description() -> &'static ModelDescription<Self::Var>;
+
     /// A fresh model with every variable at its start value.
     fn new() -> Self;
 
@@ -28,17 +40,23 @@ pub trait FmuModel: Clone + Send + Sized + 'static {
     /// lets the model build or refresh cached outputs lazily (e.g. when an
     /// output is read in Initialization Mode). An `Err` carries a message
     /// that names the offending parameter and its allowed range.
-    fn get_real(&mut self, v: &VarInfo) -> Result<f64, String>;
+    fn get_real(&mut self, v: &VarInfo<Self::Var>) -> Result<f64, String>;
     /// Set a Real parameter or input.
-    fn set_real(&mut self, v: &VarInfo, value: f64) -> Result<(), String>;
-    fn get_integer(&mut self, v: &VarInfo) -> Result<i32, String>;
-    fn set_integer(&mut self, v: &VarInfo, value: i32) -> Result<(), String>;
-    fn get_boolean(&mut self, v: &VarInfo) -> Result<bool, String>;
-    fn set_boolean(&mut self, v: &VarInfo, value: bool) -> Result<(), String>;
-    fn get_string(&mut self, v: &VarInfo) -> Result<String, String> {
+    fn set_real(&mut self, v: &VarInfo<Self::Var>, value: f64) -> Result<(), String>;
+    /// Value of an Integer variable.
+    fn get_integer(&mut self, v: &VarInfo<Self::Var>) -> Result<i32, String>;
+    /// Set an Integer parameter or input.
+    fn set_integer(&mut self, v: &VarInfo<Self::Var>, value: i32) -> Result<(), String>;
+    /// Value of a Boolean variable.
+    fn get_boolean(&mut self, v: &VarInfo<Self::Var>) -> Result<bool, String>;
+    /// Set a Boolean parameter or input.
+    fn set_boolean(&mut self, v: &VarInfo<Self::Var>, value: bool) -> Result<(), String>;
+    /// Value of a String variable (default: the model has none).
+    fn get_string(&mut self, v: &VarInfo<Self::Var>) -> Result<String, String> {
         Err(format!("{} is not a String variable", v.name))
     }
-    fn set_string(&mut self, v: &VarInfo, _value: &str) -> Result<(), String> {
+    /// Set a String parameter or input (default: the model has none).
+    fn set_string(&mut self, v: &VarInfo<Self::Var>, _value: &str) -> Result<(), String> {
         Err(format!("{} is not a String variable", v.name))
     }
 
@@ -57,10 +75,15 @@ pub trait FmuModel: Clone + Send + Sized + 'static {
 
     /// fmi2SetRealInputDerivatives (order 1 only: inputs ramp linearly
     /// within the next communication step).
-    fn set_input_derivative(&mut self, v: &VarInfo, order: i32, value: f64) -> Result<(), String>;
+    fn set_input_derivative(
+        &mut self,
+        v: &VarInfo<Self::Var>,
+        order: i32,
+        value: f64,
+    ) -> Result<(), String>;
 
     /// fmi2GetRealOutputDerivatives (order 1 only).
-    fn get_output_derivative(&mut self, v: &VarInfo, order: i32) -> Result<f64, String>;
+    fn get_output_derivative(&mut self, v: &VarInfo<Self::Var>, order: i32) -> Result<f64, String>;
 
     /// Append a self-contained, versioned byte image of the model (for
     /// fmi2SerializeFMUstate). The plumbing adds its own framing (magic,

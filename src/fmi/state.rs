@@ -8,7 +8,7 @@
 //!
 //! | bytes | content |
 //! |-------|---------|
-//! | 8     | magic `BELTFMU\0` |
+//! | 8     | the model's magic bytes ([`FmuModel::STATE_MAGIC`]) |
 //! | 4     | format version (u32) |
 //! | 4 + n | GUID of the model description: length (u32), UTF-8 bytes |
 //! | 1     | state-machine state (`Mode` as u8) |
@@ -26,24 +26,26 @@ use std::marker::PhantomData;
 
 use super::instance::{Mode, Plumbing};
 use super::model::FmuModel;
-use crate::variables::GUID;
 
-pub const MAGIC: &[u8; 8] = b"BELTFMU\0";
+/// Version of the serialized layout above.
 pub const FORMAT_VERSION: u32 = 1;
 
 /// Marks a live `Snapshot` in memory (a second line of defence behind
 /// [`Registry`]; cleared when the state is freed).
-const LIVE_TAG: u64 = 0x4245_4c54_5354_4154; // "BELTSTAT"
+const LIVE_TAG: u64 = 0x464d_5553_5441_5445; // "FMUSTATE"
 
 /// What an `fmi2FMUstate` points to.
 #[derive(Clone)]
 pub struct Snapshot<M> {
     tag: u64,
+    /// The plumbing's state at the time of the snapshot.
     pub plumbing: Plumbing,
+    /// A clone of the model.
     pub model: M,
 }
 
 impl<M: FmuModel> Snapshot<M> {
+    /// A live snapshot.
     pub fn new(plumbing: Plumbing, model: M) -> Self {
         Snapshot {
             tag: LIVE_TAG,
@@ -52,6 +54,7 @@ impl<M: FmuModel> Snapshot<M> {
         }
     }
 
+    /// Whether the snapshot has not been freed.
     pub fn is_live(&self) -> bool {
         self.tag == LIVE_TAG
     }
@@ -62,15 +65,17 @@ impl<M: FmuModel> Snapshot<M> {
         self.tag = 0;
     }
 
+    /// The serialized bytes (layout in the module documentation).
     pub fn serialize(&self) -> Vec<u8> {
         let mut model = Vec::new();
         self.model.serialize(&mut model);
 
-        let mut out = Vec::with_capacity(64 + GUID.len() + model.len());
-        out.extend_from_slice(MAGIC);
+        let guid = M::description().guid;
+        let mut out = Vec::with_capacity(64 + guid.len() + model.len());
+        out.extend_from_slice(&M::STATE_MAGIC);
         out.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
-        out.extend_from_slice(&(GUID.len() as u32).to_le_bytes());
-        out.extend_from_slice(GUID.as_bytes());
+        out.extend_from_slice(&(guid.len() as u32).to_le_bytes());
+        out.extend_from_slice(guid.as_bytes());
         out.push(self.plumbing.mode as u8);
         out.extend_from_slice(&self.plumbing.time.to_le_bytes());
         out.push(u8::from(self.plumbing.stop_time.is_some()));
@@ -82,10 +87,15 @@ impl<M: FmuModel> Snapshot<M> {
         out
     }
 
+    /// A snapshot from [`Snapshot::serialize`] bytes; `Err` says what is wrong with them.
     pub fn deserialize(bytes: &[u8]) -> Result<Self, String> {
         let mut r = Reader { bytes, pos: 0 };
-        if r.take(MAGIC.len(), "magic")? != MAGIC {
-            return Err("not a serialized BeltDrive FMU state (bad magic bytes)".into());
+        let description = M::description();
+        if r.take(M::STATE_MAGIC.len(), "magic")? != M::STATE_MAGIC {
+            return Err(format!(
+                "not a serialized {} FMU state (bad magic bytes)",
+                description.model_identifier
+            ));
         }
         let version = r.u32("format version")?;
         if version != FORMAT_VERSION {
@@ -95,10 +105,11 @@ impl<M: FmuModel> Snapshot<M> {
         }
         let guid_len = r.u32("GUID length")? as usize;
         let guid = r.take(guid_len, "GUID")?;
-        if guid != GUID.as_bytes() {
+        if guid != description.guid.as_bytes() {
             return Err(format!(
-                "serialized FMU state belongs to the model description with GUID {}, this FMU has GUID {GUID}",
-                String::from_utf8_lossy(guid)
+                "serialized FMU state belongs to the model description with GUID {}, this FMU has GUID {}",
+                String::from_utf8_lossy(guid),
+                description.guid
             ));
         }
         let mode_byte = r.u8("state")?;
@@ -197,10 +208,12 @@ impl<M: FmuModel> Registry<M> {
         Ok(())
     }
 
+    /// Number of live states.
     pub fn len(&self) -> usize {
         self.live.len()
     }
 
+    /// Whether no state is live.
     pub fn is_empty(&self) -> bool {
         self.live.is_empty()
     }

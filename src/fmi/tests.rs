@@ -1,6 +1,7 @@
-//! Plumbing tests through the pointer-level API with a mock model, so they
-//! do not depend on the belt physics. (`tests/fmi_abi.rs` exercises the
-//! exported symbols of the built library with the real model.)
+//! Plumbing tests through the pointer-level API with a mock model that has
+//! its own small variable table, so they depend on no real model.
+//! (`tests/fmi_abi.rs` exercises the exported symbols of the built library
+//! with the real model.)
 
 use std::cell::RefCell;
 use std::collections::BTreeMap;
@@ -8,12 +9,179 @@ use std::ffi::{c_char, c_int, c_void, CStr, CString};
 use std::ptr;
 
 use super::api::{self, Transition};
+use super::description::{Causality, ModelDescription, Start, VarType, Variability};
+use super::logging::{missing_categories, PLUMBING_CATEGORIES};
 use super::model::{FmuModel, StepError};
-use super::state::{fnv1a_64, Snapshot, MAGIC};
+use super::state::{fnv1a_64, Snapshot};
 use super::types::*;
-use crate::variables::{by_name, Causality, Start, VarInfo, VARIABLES};
 
 // -- Mock model -------------------------------------------------------------
+
+type VarInfo = super::description::VarInfo<()>;
+
+const MOCK_GUID: &str = "{5d0c9a1e-7b42-8e61-9f03-2c4b6a8d0e17}";
+
+/// A variable of the mock's table.
+const fn var(
+    vr: u32,
+    name: &'static str,
+    ty: VarType,
+    causality: Causality,
+    variability: Variability,
+    start: Start,
+) -> VarInfo {
+    VarInfo {
+        vr,
+        name,
+        var: (),
+        index: 0,
+        ty,
+        causality,
+        variability,
+        start,
+        min: None,
+        max: None,
+        description: "mock variable",
+        unit: "",
+    }
+}
+
+use Causality::{Input, Output, Parameter};
+use Variability::{Continuous, Fixed};
+
+/// The mock's variables, in value-reference order.
+static MOCK_VARIABLES: [VarInfo; 8] = [
+    var(
+        1,
+        "nPulleys",
+        VarType::Integer,
+        Parameter,
+        Fixed,
+        Start::Integer(2),
+    ),
+    var(
+        10,
+        "gravity",
+        VarType::Real,
+        Parameter,
+        Fixed,
+        Start::Real(9.81),
+    ),
+    var(
+        11,
+        "belt.preload",
+        VarType::Real,
+        Parameter,
+        Fixed,
+        Start::Real(500.0),
+    ),
+    var(
+        120,
+        "pulley[1].torque",
+        VarType::Real,
+        Input,
+        Continuous,
+        Start::Real(0.0),
+    ),
+    var(
+        220,
+        "pulley[2].torque",
+        VarType::Real,
+        Input,
+        Continuous,
+        Start::Real(0.0),
+    ),
+    var(
+        312,
+        "pulley[3].backSide",
+        VarType::Boolean,
+        Parameter,
+        Fixed,
+        Start::Boolean(false),
+    ),
+    var(
+        1001,
+        "belt.minTension",
+        VarType::Real,
+        Output,
+        Continuous,
+        Start::None,
+    ),
+    var(
+        1101,
+        "pulley[1].omega",
+        VarType::Real,
+        Output,
+        Continuous,
+        Start::None,
+    ),
+];
+
+static MOCK: ModelDescription<()> = ModelDescription {
+    model_identifier: "Mock",
+    guid: MOCK_GUID,
+    log_categories: &PLUMBING_CATEGORIES,
+    variables: &MOCK_VARIABLES,
+    by_vr: &[
+        (1, 0),
+        (10, 1),
+        (11, 2),
+        (120, 3),
+        (220, 4),
+        (312, 5),
+        (1001, 6),
+        (1101, 7),
+    ],
+    by_name: &[
+        ("belt.minTension", 6),
+        ("belt.preload", 2),
+        ("gravity", 1),
+        ("nPulleys", 0),
+        ("pulley[1].omega", 7),
+        ("pulley[1].torque", 3),
+        ("pulley[2].torque", 4),
+        ("pulley[3].backSide", 5),
+    ],
+};
+
+const MAGIC: &[u8; 8] = &Mock::STATE_MAGIC;
+
+fn by_name(name: &str) -> Option<&'static VarInfo> {
+    MOCK.by_name(name)
+}
+
+#[test]
+fn mock_table_is_consistent() {
+    MOCK.validate().unwrap();
+    assert!(missing_categories(MOCK.log_categories).is_empty());
+    assert_eq!(
+        MOCK.lookup(VarType::Real, 220).unwrap().name,
+        "pulley[2].torque"
+    );
+    assert!(MOCK.lookup(VarType::Integer, 220).is_none());
+    assert!(MOCK.by_vr(2).is_none() && MOCK.by_name("belt").is_none());
+}
+
+#[test]
+fn broken_indices_are_found() {
+    let unsorted = ModelDescription {
+        by_vr: &[(10, 1), (1, 0)],
+        by_name: &[("gravity", 1), ("nPulleys", 0)],
+        variables: &MOCK_VARIABLES[..2],
+        ..MOCK
+    };
+    assert!(unsorted.validate().unwrap_err().contains("not ascending"));
+    let wrong = ModelDescription {
+        by_vr: &[(1, 1), (10, 0)],
+        by_name: &[("gravity", 1), ("nPulleys", 0)],
+        variables: &MOCK_VARIABLES[..2],
+        ..MOCK
+    };
+    assert!(wrong
+        .validate()
+        .unwrap_err()
+        .contains("indexes the wrong variable"));
+}
 
 /// Stores parameters/inputs by value reference; outputs are `t + vr/1000`.
 /// `gravity < 0` makes do_step panic, `gravity == 0` fail, `h > 0.1` discard.
@@ -32,6 +200,13 @@ fn vr(name: &str) -> u32 {
 }
 
 impl FmuModel for Mock {
+    type Var = ();
+    const STATE_MAGIC: [u8; 8] = *b"MOCKFMU\0";
+
+    fn description() -> &'static ModelDescription<()> {
+        &MOCK
+    }
+
     fn new() -> Self {
         let mut m = Mock {
             t: 0.0,
@@ -39,7 +214,7 @@ impl FmuModel for Mock {
             ints: BTreeMap::new(),
             bools: BTreeMap::new(),
         };
-        for v in VARIABLES {
+        for v in MOCK.variables {
             match v.start {
                 Start::Real(x) => drop(m.reals.insert(v.vr, x)),
                 Start::Integer(x) => drop(m.ints.insert(v.vr, x)),
@@ -232,7 +407,7 @@ impl Fmu {
         (c, log)
     }
     fn new() -> Fmu {
-        let (c, log) = Self::try_new(crate::variables::GUID, FMI2_CO_SIMULATION, false);
+        let (c, log) = Self::try_new(MOCK_GUID, FMI2_CO_SIMULATION, false);
         assert!(!c.is_null());
         Fmu { c, log }
     }
@@ -356,11 +531,11 @@ fn instantiate_refusals_are_logged() {
         "{:?}",
         log.borrow()
     );
-    let (c, log) = Fmu::try_new(crate::variables::GUID, FMI2_MODEL_EXCHANGE, false);
+    let (c, log) = Fmu::try_new(MOCK_GUID, FMI2_MODEL_EXCHANGE, false);
     assert!(c.is_null());
     assert!(log.borrow()[0].message.contains("Co-Simulation only"));
     let cb = callbacks(&log);
-    let guid = CString::new(crate::variables::GUID).unwrap();
+    let guid = CString::new(MOCK_GUID).unwrap();
     let c =
         unsafe { api::instantiate::<Mock>(ptr::null(), 1, guid.as_ptr(), ptr::null(), &cb, 0, 0) };
     assert!(c.is_null());
@@ -757,4 +932,33 @@ fn serialization_round_trip_and_refusals() {
 
     assert_eq!(unsafe { api::free_fmu_state::<Mock>(f.c, &mut s) }, OK);
     assert_eq!(unsafe { api::free_fmu_state::<Mock>(g.c, &mut s2) }, OK);
+}
+
+/// The plumbing reaches no other part of the crate: every `crate::` path
+/// in `src/fmi/` stays inside `crate::fmi` (the model comes in through
+/// `FmuModel` only).
+#[test]
+fn plumbing_depends_on_no_model() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src/fmi");
+    let mut files = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_none_or(|e| e != "rs") || path.ends_with("tests.rs") {
+            continue;
+        }
+        files += 1;
+        let text = std::fs::read_to_string(&path).unwrap();
+        for (i, line) in text.lines().enumerate() {
+            for (at, _) in line.match_indices("crate::") {
+                let rest = &line[at + "crate::".len()..];
+                assert!(
+                    rest.starts_with("fmi") || rest.starts_with("export_fmi2_co_simulation"),
+                    "{}:{}: {line}",
+                    path.display(),
+                    i + 1
+                );
+            }
+        }
+    }
+    assert!(files >= 9, "{files} files read");
 }

@@ -23,8 +23,6 @@
 
 mod bench;
 mod docs;
-#[path = "../../modelDescription/guid.rs"]
-mod guid;
 mod icon;
 mod tools;
 
@@ -59,30 +57,42 @@ fn cargo() -> Command {
     Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()))
 }
 
+/// The Cargo package (and library) that is the FMU's binary.
+const FMU_PACKAGE: &str = "belt_drive";
+
 fn fmu() -> Result<PathBuf> {
     run(
-        cargo().args(["build", "--release", "--lib", "-p", "belt_drive"]),
+        cargo().args(["build", "--release", "--lib", "-p", FMU_PACKAGE]),
         "release build",
     )?;
     let root = root();
-    let template = fs::read_to_string(root.join("modelDescription/modelDescription.xml"))
+    let source = fs::read_to_string(root.join("modelDescription/modelDescription.xml"))
         .map_err(|e| format!("reading the model description: {e}"))?;
+    // The same code build.rs runs: the same checks, the same GUID.
+    let md = model_description::compile(&source)
+        .map_err(|e| format!("modelDescription/modelDescription.xml: {e}"))?;
+    let id = md.model_identifier();
     let target = std::env::var("CARGO_TARGET_DIR")
         .map(PathBuf::from)
         .unwrap_or_else(|_| root.join("target"));
-    let so = fs::read(target.join("release/libbelt_drive.so"))
-        .map_err(|e| format!("reading the built library: {e}"))?;
+    let library = target.join("release").join(format!(
+        "{}{FMU_PACKAGE}{}",
+        std::env::consts::DLL_PREFIX,
+        std::env::consts::DLL_SUFFIX
+    ));
+    let so = fs::read(&library).map_err(|e| format!("reading {}: {e}", library.display()))?;
     // The binary compares the importer's GUID with the one build.rs computed
-    // from the same template: make sure the archive gets that very GUID.
-    let guid = guid::guid_for_xml(&template);
+    // from the same source: make sure the archive gets that very GUID.
+    let guid = &md.guid;
     if !so.windows(guid.len()).any(|w| w == guid.as_bytes()) {
         return Err(format!(
             "the built library does not contain GUID {guid} of modelDescription.xml: stale build?"
         ));
     }
+    let binary = model_description::platform::host_binary_path(id)?;
     let dist = root.join("dist");
     fs::create_dir_all(&dist).map_err(|e| e.to_string())?;
-    let path = dist.join("BeltDrive.fmu");
+    let path = dist.join(format!("{id}.fmu"));
     let file = fs::File::create(&path).map_err(|e| format!("{}: {e}", path.display()))?;
     let mut zip = zip::ZipWriter::new(file);
     let opts = zip::write::SimpleFileOptions::default()
@@ -91,14 +101,13 @@ fn fmu() -> Result<PathBuf> {
         zip.start_file(name, opts).map_err(|e| e.to_string())?;
         zip.write_all(bytes).map_err(|e| e.to_string())
     };
-    let xml = guid::substitute_guid(&template, &guid)
-        .ok_or("modelDescription.xml must hold the @GUID@ placeholder exactly once")?;
+    let xml = &md.xml;
     add("modelDescription.xml", xml.as_bytes())?;
-    add("binaries/linux64/BeltDrive.so", &so)?;
+    add(&binary, &so)?;
     let model_md = fs::read_to_string(root.join("docs/model.md")).ok();
     add(
         "documentation/index.html",
-        docs::index_html(&xml, model_md.as_deref())?.as_bytes(),
+        docs::index_html(xml, model_md.as_deref())?.as_bytes(),
     )?;
     add("model.png", &icon::model_png())?;
     zip.finish().map_err(|e| e.to_string())?;
@@ -170,6 +179,21 @@ fn validate(args: &[String]) -> Result<()> {
             .arg("validation/validate.py")
             .args(args),
         "validation report",
+    )
+}
+
+/// `cargo xtask sweep -- STUDY.toml [--scheduler ADDR] [--workers N] ...`:
+/// a parameter study on Dask (python/beltdrive, docs/sweeps.md).
+fn sweep(args: &[String]) -> Result<()> {
+    let args = args.strip_prefix(&["--".to_string()]).unwrap_or(args);
+    fmu()?;
+    venv()?;
+    run(
+        Command::new(venv_python())
+            .args(["-m", "beltdrive.sweep"])
+            .args(args)
+            .env("PYTHONPATH", root().join("python")),
+        "parameter study",
     )
 }
 
@@ -262,8 +286,9 @@ fn main() {
         Some("test") => test(),
         Some("valgrind") => valgrind(),
         Some("bench") => bench::bench(&args[1..]),
+        Some("sweep") => sweep(&args[1..]),
         _ => Err(
-            "usage: cargo xtask <fmu|venv|run|validate|crosscheck|fmi-sim|test|valgrind|bench>"
+            "usage: cargo xtask <fmu|venv|run|validate|crosscheck|fmi-sim|test|valgrind|bench|sweep>"
                 .into(),
         ),
     };

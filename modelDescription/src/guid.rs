@@ -1,10 +1,8 @@
 //! The GUID of `modelDescription.xml`, derived from the file's content.
 //!
-//! This file is shared, not a crate: `build.rs` and `xtask` both pull it in
-//! with `#[path = ".../modelDescription/guid.rs"] mod guid;` so the GUID
-//! compiled into the binary (`variables::GUID`) and the one written into the
-//! packaged `modelDescription.xml` come from the very same function. Keep it
-//! dependency-free and `std`-only.
+//! `build.rs` (the GUID compiled into the binary) and `cargo xtask fmu` (the
+//! GUID written into the packaged `modelDescription.xml`) both take it from
+//! [`crate::compile`], which calls [`guid_for_xml`]: one function, one GUID.
 //!
 //! The GUID is a 128-bit FNV-1a hash of the model description *as written*
 //! (with the `@GUID@` placeholder still in it), so every edit of the XML
@@ -12,9 +10,6 @@
 //! returns are skipped so a CRLF checkout hashes like an LF one. The hash is
 //! stamped as an RFC 9562 version-8 ("custom") UUID and formatted the way
 //! FMI tools expect: `{xxxxxxxx-xxxx-xxxx-xxxx-xxxxxxxxxxxx}`.
-
-// Each includer uses a different subset of these items.
-#![allow(dead_code)]
 
 /// The placeholder that stands for the GUID in the hand-written XML.
 pub const GUID_PLACEHOLDER: &str = "@GUID@";
