@@ -48,7 +48,7 @@ fn reference_rhs<R: Recorder>(
     let n = s.n;
     let np = s.np;
     let hl = s.half_length;
-    let (ks, bs, kt, bt) = (s.k_axial, s.b_axial, s.k_bend, s.b_bend);
+    let (ks, bs, kt, bt) = (s.axial.k, s.axial.b, s.bend.k, s.bend.b);
     let weight = s.mass * s.gravity;
     mag.iter_mut().for_each(|m| *m = 0.0);
 
@@ -135,7 +135,7 @@ fn reference_rhs<R: Recorder>(
         let d = [cur.0[0] - prev.2[0], cur.0[1] - prev.2[1]];
         let dd = [cur.1[0] - prev.3[0], cur.1[1] - prev.3[1]];
         let d2 = d[0] * d[0] + d[1] * d[1];
-        let rate = (d[0] * dd[0] + d[1] * dd[1]) / (d2 + s.eps2);
+        let rate = (d[0] * dd[0] + d[1] * dd[1]) / (d2 + s.axial.eps2);
         let fx = ks * d[0] + bs * rate * d[0];
         let fy = ks * d[1] + bs * rate * d[1];
         let t_cur = cur.4[0] * fy - cur.4[1] * fx;

@@ -14,6 +14,8 @@
 //! angles only on pulley speeds; the energy accumulators are left out (the
 //! W-method keeps its order with an approximate Jacobian, see rosenbrock.rs).
 
+use super::elements::contact;
+use super::elements::sde::{self, BodyEnd};
 use super::model::{BeltSystem, BODY_DOF};
 use super::params::MAX_PULLEYS;
 use super::trig;
@@ -262,71 +264,59 @@ impl BeltSystem {
                 b.pv[j] = RowVector3::zeros();
                 b.pz[j] = 0.0;
             }
-            let x = Vector2::new(y[o], y[o + 1]);
-            let v = Vector2::new(y[o + 3], y[o + 4]);
+            let x = [y[o], y[o + 1]];
+            let v = [y[o + 3], y[o + 4]];
             let z = y[o + 6];
             let mut fq = Matrix2::zeros();
             let mut fv = Matrix2::zeros();
-            let cap = self.friction.creep_cap();
             for j in 0..np {
                 let pc = &self.pulleys[j];
-                let r = x - Vector2::new(pc.cx, pc.cy);
-                let d2 = r.norm_squared();
-                if d2 >= pc.radius2 {
+                let kin = contact::kinematics(
+                    [x[0] - pc.cx, x[1] - pc.cy],
+                    v,
+                    pc.radius,
+                    omega_p[j] * pc.radius,
+                );
+                if kin.d2 >= pc.radius2 {
                     continue;
                 }
                 b.touching |= 1 << j;
-                let dist = d2.sqrt().max(1e-12);
-                let nrm = r / dist;
-                let tau = perp(nrm);
-                let p = pc.radius - dist;
-                let p_dot = -v.dot(&nrm);
-                let (normal, dn_dp, dn_dpd) = self.contact.normal_force_jac(p, p_dot);
-                let v_t = omega_p[j] * pc.radius - v.dot(&tau);
                 let zf = self.zone_factor[i];
-                let (mu, dmu_dv, dmu_dz) =
+                let cp = contact::force_partials(
+                    &kin,
+                    v,
+                    self.contact.normal_force_jac(kin.p, kin.p_dot),
                     self.friction
-                        .coefficient_jac(v_t, z, pc.mu_s * zf, pc.mu_k * zf);
-                let f = mu * normal;
-                // gradients of p, p_dot, v_T with respect to x and v
-                let dpd_dx = -(v.dot(&tau) / dist) * tau.transpose();
-                let dvt_dx = (v.dot(&nrm) / dist) * tau.transpose();
-                let dvt_dv = -tau.transpose();
-                let dn_dx = -dn_dp * nrm.transpose() + dn_dpd * dpd_dx;
-                let dn_dv = -dn_dpd * nrm.transpose();
-                let df_dx = mu * dn_dx + normal * dmu_dv * dvt_dx;
-                let df_dv = mu * dn_dv + normal * dmu_dv * dvt_dv;
-                // F = N n + f tau, with dn/dx = tau tau^T / dist, dtau/dx = -n tau^T / dist
-                fq += nrm * dn_dx + (normal / dist) * tau * tau.transpose() + tau * df_dx
-                    - (f / dist) * nrm * tau.transpose();
-                fv += nrm * dn_dv + tau * df_dv;
-                let df_dz = normal * dmu_dz;
-                b.az[0] += tau.x * df_dz * inv_m;
-                b.az[1] += tau.y * df_dz * inv_m;
+                        .coefficient_jac(kin.v_t, z, pc.mu_s * zf, pc.mu_k * zf),
+                    pc.radius,
+                );
+                fq += cp.f_x;
+                fv += cp.f_v;
+                let tau = kin.t;
+                b.az[0] += tau[0] * cp.fric_z * inv_m;
+                b.az[1] += tau[1] * cp.fric_z * inv_m;
                 let free = !pc.speed_driven;
-                let df_dw = normal * dmu_dv * pc.radius;
                 if free {
-                    b.aw[j][0] += tau.x * df_dw * inv_m;
-                    b.aw[j][1] += tau.y * df_dw * inv_m;
+                    b.aw[j][0] += tau[0] * cp.fric_w * inv_m;
+                    b.aw[j][1] += tau[1] * cp.fric_w * inv_m;
                 }
                 // creep rate dz/dt = v_T, frozen at the cap while pushed outward
-                let capped = z.abs() >= cap && v_t * z > 0.0;
-                if !capped {
-                    b.gq[0] += dvt_dx[0];
-                    b.gq[1] += dvt_dx[1];
-                    b.gv[0] += dvt_dv[0];
-                    b.gv[1] += dvt_dv[1];
+                if self.friction.creep_rate_slope(kin.v_t, z) != 0.0 {
+                    b.gq[0] += cp.vt_x[0];
+                    b.gq[1] += cp.vt_x[1];
+                    b.gv[0] += cp.vt_v[0];
+                    b.gv[1] += cp.vt_v[1];
                     if free {
                         b.gw[j] += pc.radius;
                     }
                 }
-                // pulley torque -r f (eq. 24)
+                // pulley torque -r f on the pulley's acceleration (eq. 24)
                 if free {
-                    let k = -pc.radius * pc.inv_inertia;
-                    b.pq[j] = RowVector3::new(k * df_dx[0], k * df_dx[1], 0.0);
-                    b.pv[j] = RowVector3::new(k * df_dv[0], k * df_dv[1], 0.0);
-                    b.pz[j] = k * df_dz;
-                    jac.pw[j][j] += k * df_dw;
+                    let k = -pc.radius * pc.balance_partials().1;
+                    b.pq[j] = RowVector3::new(k * cp.fric_x[0], k * cp.fric_x[1], 0.0);
+                    b.pv[j] = RowVector3::new(k * cp.fric_v[0], k * cp.fric_v[1], 0.0);
+                    b.pz[j] = k * cp.fric_z;
+                    jac.pw[j][j] += k * cp.fric_w;
                 }
             }
             for r in 0..2 {
@@ -339,7 +329,7 @@ impl BeltSystem {
 
         // SDE k joins the right end of body p = k-1 to the left end of body
         // c = k. Gap d = J_d q-ish, generalized forces Q = -J_d^T F (eq. 20-23).
-        let (ks, bs, kt, bt) = (self.k_axial, self.b_axial, self.k_bend, self.b_bend);
+        let (kt, bt) = self.bend.partials();
         // sin/cos of each body angle once: body k's is body k+1's "previous"
         let mut prev_sc = trig::sin_cos(y[BODY_DOF * (n - 1) + 2]);
         for k in 0..n {
@@ -352,17 +342,17 @@ impl BeltSystem {
             let hc = Vector2::new(hl * cc, hl * sc);
             let (hpp, hcp) = (perp(hp), perp(hc));
             let (wp, wc) = (y[op + 5], y[oc + 5]);
-            let d = Vector2::new(y[oc], y[oc + 1]) - hc - Vector2::new(y[op], y[op + 1]) - hp;
-            let dd = Vector2::new(y[oc + 3], y[oc + 4])
-                - wc * hcp
-                - Vector2::new(y[op + 3], y[op + 4])
-                - wp * hpp;
-            let den = d.norm_squared() + self.eps2;
-            let rho = d.dot(&dd) / den;
-            let force = (ks + bs * rho) * d;
-            let drho_dd = dd / den - (2.0 * rho / den) * d;
-            let f_d = Matrix2::identity() * (ks + bs * rho) + bs * d * drho_dd.transpose();
-            let f_dd = (bs / den) * d * d.transpose();
+            let end = |o: usize, h: Vector2<f64>| BodyEnd {
+                x: y[o],
+                y: y[o + 1],
+                hx: h.x,
+                hy: h.y,
+                vx: y[o + 3],
+                vy: y[o + 4],
+                w: y[o + 5],
+            };
+            let (d, dd) = sde::gap(end(op, hp), end(oc, hc));
+            let (force, f_d, f_dd) = self.axial.partials(d, dd);
             // dF/dq and dF/dv (2 x 6 over x_p, y_p, phi_p, x_c, y_c, phi_c)
             // column by column: the gap's Jacobian is J_d = [-I, -h_p^perp,
             // I, -h_c^perp], and d(dd)/dq acts only through the angles
@@ -431,7 +421,7 @@ impl BeltSystem {
             let pc = &self.pulleys[j];
             let Some(dc) = &pc.decoupler else {
                 if !pc.speed_driven {
-                    jac.pw[j][j] -= pc.load_damping * pc.inv_inertia;
+                    jac.pw[j][j] += pc.balance_partials().0;
                 }
                 continue;
             };

@@ -3,10 +3,9 @@
 //!
 //! * [`params`]: parameters, the paper's two drives, validation;
 //! * [`layout`]: belt path, body length for the preload, mounted bodies;
-//! * [`contact`]: penalty contact, eq. 4-11;
-//! * [`friction`]: the two friction laws, eq. 12-19 and ref. [11];
-//! * [`elements`]: the accessory-drive elements (V-groove, tensioner arm,
-//!   one-way decoupler) as force laws with partials and energy;
+//! * [`elements`]: the force laws, each once (spring-dampers, contact,
+//!   friction, pulley drive and load, V-groove, one-way decoupler) with
+//!   partials, energy and dissipation;
 //! * [`model`]: equations of motion, eq. 20-24 (the right-hand side);
 //! * [`stepping`]: adaptive step-size control shared by the integrators;
 //! * [`rkf45`]: the adaptive Runge-Kutta-Fehlberg 4(5) integrator;
@@ -15,10 +14,8 @@
 //! * [`trig`]: branch-free sine, cosine and angle wrap for the vectorised loops;
 //! * [`drive`]: a drive that runs, with its outputs.
 
-pub mod contact;
 pub mod drive;
 pub mod elements;
-pub mod friction;
 pub mod iteration_matrix;
 pub mod jacobian;
 pub mod layout;

@@ -9,10 +9,12 @@
 //! * per pulley with a decoupler, in pulley order: `[twist, rotor omega]`
 //!   (`elements::decoupler`).
 
-use super::contact::ContactLaw;
+use super::elements::contact::{self, ContactLaw};
 use super::elements::decoupler::Decoupler;
+use super::elements::friction::Friction;
 use super::elements::groove::friction_factor;
-use super::friction::Friction;
+pub use super::elements::pulley::PulleyConst;
+use super::elements::sde::{self, AxialSde, BodyEnd, TorsionalSde};
 use super::layout::Layout;
 use super::params::{DriveParams, FrictionLaw, MAX_PULLEYS};
 use super::trig;
@@ -30,30 +32,6 @@ pub struct Inputs {
     pub torque_rate: [f64; MAX_PULLEYS],
     pub omega_ref: [f64; MAX_PULLEYS],
     pub omega_ref_rate: [f64; MAX_PULLEYS],
-}
-
-/// Constant data of one pulley in the hot loop.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PulleyConst {
-    pub cx: f64,
-    pub cy: f64,
-    pub radius: f64,
-    pub radius2: f64,
-    pub inv_inertia: f64,
-    pub inertia: f64,
-    pub mu_s: f64,
-    pub mu_k: f64,
-    pub speed_driven: bool,
-    pub load_damping: f64,
-    pub torque_ramp: f64,
-    pub omega_ramp: f64,
-    pub ramp_time: f64,
-    /// One-way decoupler between hub and rotor, if any, its rotor's inertia
-    /// and 1 / inertia, and the offset of its states [twist, rotor speed].
-    pub decoupler: Option<Decoupler>,
-    pub rotor_inertia: f64,
-    pub rotor_inv_inertia: f64,
-    pub decoupler_offset: usize,
 }
 
 /// Observer of the force evaluation, used for outputs. The hot path uses
@@ -94,19 +72,15 @@ pub struct BeltSystem {
     pub inv_mass: f64,
     pub inertia: f64,
     pub inv_inertia: f64,
-    /// Translational SDE: stiffness EA/l, damping B/l.
-    pub k_axial: f64,
-    pub b_axial: f64,
-    /// Torsional SDE: stiffness EI/l, damping.
-    pub k_bend: f64,
-    pub b_bend: f64,
+    /// Translational SDE between neighbouring bodies (EA/l, B/l).
+    pub axial: AxialSde,
+    /// Torsional SDE between neighbouring bodies (EI/l, damping).
+    pub bend: TorsionalSde,
     pub gravity: f64,
     pub contact: ContactLaw,
     pub friction: Friction,
     /// Friction factor of every body (1 outside the modified zone).
     pub zone_factor: Vec<f64>,
-    /// Squared regularisation length of the SDE direction (zero-length gap).
-    pub eps2: f64,
     /// Mass-proportional damping [1/s] used only while the mounted belt is
     /// relaxed into static equilibrium (see `Drive::new`); 0 when running.
     pub relax_damping: f64,
@@ -452,29 +426,10 @@ impl BeltSystem {
         let b = &params.belt;
         let mass = b.mass_per_length * l;
         let inertia = mass * l * l / 12.0; // eq. 2
-        let zero = PulleyConst {
-            cx: 0.0,
-            cy: 0.0,
-            radius: 0.0,
-            radius2: 0.0,
-            inv_inertia: 0.0,
-            inertia: 0.0,
-            mu_s: 0.0,
-            mu_k: 0.0,
-            speed_driven: false,
-            load_damping: 0.0,
-            torque_ramp: 0.0,
-            omega_ramp: 0.0,
-            ramp_time: 1.0,
-            decoupler: None,
-            rotor_inertia: 0.0,
-            rotor_inv_inertia: 0.0,
-            decoupler_offset: 0,
-        };
         let n = b.n_bodies;
         let np = params.pulleys.len();
         let mut n_dec = 0;
-        let mut pulleys = [zero; MAX_PULLEYS];
+        let mut pulleys = [PulleyConst::NONE; MAX_PULLEYS];
         for (pc, p) in pulleys.iter_mut().zip(&params.pulleys) {
             *pc = PulleyConst {
                 cx: p.x,
@@ -518,10 +473,15 @@ impl BeltSystem {
             inv_mass: 1.0 / mass,
             inertia,
             inv_inertia: 1.0 / inertia,
-            k_axial: b.ea / l,
-            b_axial: b.axial_damping / l,
-            k_bend: b.bending_stiffness / l,
-            b_bend: b.bending_damping / l,
+            axial: AxialSde {
+                k: b.ea / l,
+                b: b.axial_damping / l,
+                eps2: (1e-6 * l) * (1e-6 * l),
+            },
+            bend: TorsionalSde {
+                k: b.bending_stiffness / l,
+                b: b.bending_damping / l,
+            },
             gravity: params.gravity,
             contact: ContactLaw {
                 c1: c.c1 * l,
@@ -531,7 +491,6 @@ impl BeltSystem {
             },
             friction: Friction::new(f.law, f.dv, f.creep_max, f.creep_damping_time),
             zone_factor,
-            eps2: (1e-6 * l) * (1e-6 * l),
             relax_damping: 0.0,
             inputs: Inputs::default(),
             scratch: Scratch::new(),
@@ -555,7 +514,7 @@ impl BeltSystem {
     pub fn applied_torque(&self, j: usize, t: f64) -> f64 {
         let p = &self.pulleys[j];
         let inp = &self.inputs;
-        inp.torque[j] + inp.torque_rate[j] * (t - inp.t0) + ramp(p, p.torque_ramp, t)
+        inp.torque[j] + inp.torque_rate[j] * (t - inp.t0) + p.ramp(p.torque_ramp, t)
     }
 
     /// Prescribed speed of a speed-driven pulley j at time t, and its rate.
@@ -563,8 +522,8 @@ impl BeltSystem {
     pub fn prescribed_speed(&self, j: usize, t: f64) -> (f64, f64) {
         let p = &self.pulleys[j];
         let inp = &self.inputs;
-        let w = inp.omega_ref[j] + inp.omega_ref_rate[j] * (t - inp.t0) + ramp(p, p.omega_ramp, t);
-        let dw = inp.omega_ref_rate[j] + ramp_rate(p, p.omega_ramp, t);
+        let w = inp.omega_ref[j] + inp.omega_ref_rate[j] * (t - inp.t0) + p.ramp(p.omega_ramp, t);
+        let dw = inp.omega_ref_rate[j] + p.ramp_rate(p.omega_ramp, t);
         (w, dw)
     }
 
@@ -706,10 +665,14 @@ impl BeltSystem {
             let w = omega_p[j];
             let applied = self.applied_torque(j, t);
             dy[o] = w;
-            // The hub's own torques (their sum, the applied torque and the
-            // load): the load acts on the hub, or through a decoupler on its
-            // rotor (then the hub carries the clutch's -s M).
-            let hub = if let Some(dc) = &pc.decoupler {
+            let prescribed = if pc.speed_driven {
+                self.prescribed_speed(j, t).1
+            } else {
+                0.0
+            };
+            let bal = if let Some(dc) = &pc.decoupler {
+                // The load and the applied torque act on the rotor behind
+                // the decoupler; the hub carries the clutch's -s M.
                 let d = pc.decoupler_offset;
                 let (twist, w_r) = (y[d], y[d + 1]);
                 let rel = dc.relative_rate(w, w_r);
@@ -718,34 +681,27 @@ impl BeltSystem {
                 let load = pc.load_damping * w_r;
                 dy[d] = law.twist_rate;
                 dy[d + 1] = (applied + m - load) * pc.rotor_inv_inertia;
-                p_in += applied * w_r;
+                let mut hub = *pc;
+                hub.load_damping = 0.0;
+                let bal = hub.balance(w, -m, belt_torque[j], prescribed);
+                dy[o + 1] = bal.alpha;
+                p_in += bal.drive * w + applied * w_r;
                 // the clutch's power M w less the spring's energy rate
                 p_diss += load * w_r + law.torque * rel - dc.stiffness * twist * law.twist_rate;
                 if R::ACTIVE {
                     rec.decoupler(j, law.torque, w_r);
                 }
-                (-m, 0.0, 0.0)
+                bal
             } else {
-                let load = pc.load_damping * w;
-                p_diss += load * w;
-                (applied - load, applied, load)
+                let bal = pc.balance(w, applied, belt_torque[j], prescribed);
+                dy[o + 1] = bal.alpha;
+                let (power_in, power_load) = pc.power(w, applied, &bal);
+                p_in += power_in;
+                p_diss += power_load;
+                bal
             };
-            let (hub, hub_applied, hub_load) = hub;
-            let (alpha, drive) = if pc.speed_driven {
-                let alpha = self.prescribed_speed(j, t).1;
-                let drive = if pc.decoupler.is_some() {
-                    pc.inertia * alpha - belt_torque[j] - hub
-                } else {
-                    pc.inertia * alpha - belt_torque[j] - hub_applied + hub_load
-                };
-                (alpha, drive)
-            } else {
-                ((hub + belt_torque[j]) * pc.inv_inertia, 0.0)
-            };
-            dy[o + 1] = alpha;
-            p_in += (hub_applied + drive) * w;
             if R::ACTIVE {
-                rec.pulley(j, belt_torque[j], drive, alpha);
+                rec.pulley(j, belt_torque[j], bal.drive, bal.alpha);
             }
         }
         let e = self.energy_offset();
@@ -802,27 +758,22 @@ impl BeltSystem {
 
         // (2) SDE k joins the right end of body m = k to the left end of
         // body m = k + 1 (eq. 20-23); k = 0 was carried unless first.
-        let (ks, bs, kt, bt, eps2) = (
-            self.k_axial,
-            self.b_axial,
-            self.k_bend,
-            self.b_bend,
-            self.eps2,
-        );
+        let (axial, bend) = (self.axial, self.bend);
+        let end = |b: &Block, m: usize| BodyEnd {
+            x: b.x[m],
+            y: b.y[m],
+            hx: b.hx[m],
+            hy: b.hy[m],
+            vx: b.vx[m],
+            vy: b.vy[m],
+            w: b.w[m],
+        };
         let k0 = if first { 0 } else { 1 };
         for k in k0..len + 1 {
             let (p, c) = (k, k + 1);
-            // end points (gap) and their velocities
-            let d0 = (b.x[c] - b.hx[c]) - (b.x[p] + b.hx[p]);
-            let d1 = (b.y[c] - b.hy[c]) - (b.y[p] + b.hy[p]);
-            let dd0 = (b.vx[c] + b.w[c] * b.hy[c]) - (b.vx[p] - b.w[p] * b.hy[p]);
-            let dd1 = (b.vy[c] - b.w[c] * b.hx[c]) - (b.vy[p] + b.w[p] * b.hx[p]);
-            let d2 = d0 * d0 + d1 * d1;
-            let rate = (d0 * dd0 + d1 * dd1) / (d2 + eps2);
-            // Zero-rest-length Kelvin-Voigt element: elastic force EA/l * gap
-            // vector, damping along the gap (regularised at zero gap).
-            let fx = ks * d0 + bs * rate * d0;
-            let fy = ks * d1 + bs * rate * d1;
+            let (d, dd) = sde::gap(end(b, p), end(b, c));
+            let (d2, rate) = axial.rate(d, dd);
+            let [fx, fy] = axial.force(d, rate);
             b.fx[k] = fx;
             b.fy[k] = fy;
             // torques of the end forces about each body's centre
@@ -830,30 +781,23 @@ impl BeltSystem {
             let t_prev = b.hx[p] * fy - b.hy[p] * fx; // h x F
             let dphi = trig::wrap_angle(b.phi[c] - b.phi[p]);
             let dw = b.w[c] - b.w[p];
-            let moment = kt * dphi + bt * dw;
+            let moment = bend.moment(dphi, dw);
             b.torque_cur[k] = t_cur - moment;
             b.torque_prev[k] = t_prev + moment;
-            b.diss[k] = bs * rate * rate * d2 + bt * dw * dw;
+            b.diss[k] = axial.dissipation(d2, rate) + bend.dissipation(dw);
         }
         // dissipation of SDEs i0..i0 + len (each counted in its own block)
         p_diss += sum(&b.diss[..len]);
         if R::ACTIVE {
             for k in 0..len {
                 let (p, c) = (k, k + 1);
-                // the same gap and rate as above
-                let d0 = (b.x[c] - b.hx[c]) - (b.x[p] + b.hx[p]);
-                let d1 = (b.y[c] - b.hy[c]) - (b.y[p] + b.hy[p]);
-                let dd0 = (b.vx[c] + b.w[c] * b.hy[c]) - (b.vx[p] - b.w[p] * b.hy[p]);
-                let dd1 = (b.vy[c] - b.w[c] * b.hx[c]) - (b.vy[p] + b.w[p] * b.hx[p]);
-                let d2 = d0 * d0 + d1 * d1;
-                let rate = (d0 * dd0 + d1 * dd1) / (d2 + eps2);
-                let l = d2.sqrt();
-                let tension = ks * l + bs * rate * l;
+                let (d, dd) = sde::gap(end(b, p), end(b, c));
+                let (d2, rate) = axial.rate(d, dd);
                 let mid = [
                     0.5 * ((b.x[c] - b.hx[c]) + (b.x[p] + b.hx[p])),
                     0.5 * ((b.y[c] - b.hy[c]) + (b.y[p] + b.hy[p])),
                 ];
-                rec.sde(i0 + k, tension, mid);
+                rec.sde(i0 + k, axial.tension(d2, rate), mid);
             }
         }
 
@@ -1009,13 +953,19 @@ impl BeltSystem {
                 pot += self.contact.energy(pc.radius - dist);
             }
             let q = &y[BODY_DOF * ((i + n - 1) % n)..];
-            let (s, c) = b[2].sin_cos();
-            let (sq, cq) = q[2].sin_cos();
-            let gx = (b[0] - hl * c) - (q[0] + hl * cq);
-            let gy = (b[1] - hl * s) - (q[1] + hl * sq);
-            pot += 0.5 * self.k_axial * (gx * gx + gy * gy);
-            let dphi = wrap_angle(b[2] - q[2]);
-            pot += 0.5 * self.k_bend * dphi * dphi;
+            let at = |b: &[f64]| {
+                let (s, c) = b[2].sin_cos();
+                BodyEnd {
+                    x: b[0],
+                    y: b[1],
+                    hx: hl * c,
+                    hy: hl * s,
+                    ..BodyEnd::default()
+                }
+            };
+            let (d, _) = sde::gap(at(q), at(b));
+            pot += self.axial.energy(d[0] * d[0] + d[1] * d[1]);
+            pot += self.bend.energy(wrap_angle(b[2] - q[2]));
         }
         for j in 0..self.np {
             let pc = &self.pulleys[j];
@@ -1028,24 +978,6 @@ impl BeltSystem {
             }
         }
         (kin, pot)
-    }
-}
-
-fn ramp(p: &PulleyConst, amp: f64, t: f64) -> f64 {
-    if amp == 0.0 || t <= 0.0 {
-        0.0
-    } else if t >= p.ramp_time {
-        amp
-    } else {
-        amp * t / p.ramp_time
-    }
-}
-
-fn ramp_rate(p: &PulleyConst, amp: f64, t: f64) -> f64 {
-    if amp != 0.0 && t > 0.0 && t < p.ramp_time {
-        amp / p.ramp_time
-    } else {
-        0.0
     }
 }
 
@@ -1145,32 +1077,29 @@ fn contact_arc(
     } = *pc;
     let (law, friction) = (sys.contact, sys.friction);
     for i in 0..k {
-        let (rx, ry) = (xs[i] - cx, ys[i] - cy);
-        let (vx, vy, z) = (vxs[i], vys[i], zs[i]);
-        // eq. 4-8: direction, penetration and its rate
-        let d2 = rx * rx + ry * ry;
-        let dist = d2.sqrt();
-        let inv = 1.0 / dist.max(1e-12);
-        let (nx, ny) = (rx * inv, ry * inv);
-        let p = radius - dist;
-        let p_dot = -(vx * nx + vy * ny);
-        let (normal, elastic) = law.normal_force(p, p_dot);
-        // eq. 14-18 with the pulley radius as lever: v_T = omega r_p - v.tau
-        let (tx, ty) = (-ny, nx);
-        let v_t = surface - (vx * tx + vy * ty);
+        let z = zs[i];
+        let kin = contact::kinematics([xs[i] - cx, ys[i] - cy], [vxs[i], vys[i]], radius, surface);
+        let (normal, elastic) = law.normal_force(kin.p, kin.p_dot);
         let zf = zfs[i];
-        let f = mu(v_t, z, mu_s * zf, mu_k * zf) * normal; // eq. 19, along +tau
-        let fx = normal * nx + f * tx;
-        let fy = normal * ny + f * ty;
-        let inside = (d2 < radius2) & (i < valid);
+        let f = mu(kin.v_t, z, mu_s * zf, mu_k * zf) * normal; // eq. 19, along +tau
+        let [fx, fy] = contact::force(&kin, normal, f);
+        let inside = (kin.d2 < radius2) & (i < valid);
         let keep = |v: f64| if inside { v } else { 0.0 };
         ofx[i] = keep(fx);
         ofy[i] = keep(fy);
-        dz[i] = keep(friction.creep_rate(v_t, z));
+        dz[i] = keep(friction.creep_rate(kin.v_t, z));
         torque[i] = keep(radius * f);
-        diss[i] = keep((normal - elastic) * p_dot + f * v_t);
+        diss[i] = keep(contact::dissipation(&kin, normal, elastic, f));
         if let Some(r) = rec.as_deref_mut() {
-            r[i] = [normal, f, v_t, p, fx, fy, f64::from(u8::from(inside))];
+            r[i] = [
+                normal,
+                f,
+                kin.v_t,
+                kin.p,
+                fx,
+                fy,
+                f64::from(u8::from(inside)),
+            ];
         }
     }
 }

@@ -1,14 +1,24 @@
-//! Force laws of the accessory-drive elements as pure functions, each with
-//! its partial derivatives, stored energy and dissipated power side by side
-//! (docs/model.md, "Accessory drives"):
+//! The force laws of the model, each written once: its force, partial
+//! derivatives, stored energy and dissipated power side by side. The
+//! right-hand side, the Jacobian, the outputs and the energy balance call
+//! these and compute no force of their own.
 //!
+//! * [`sde`]: translational and torsional spring-damper between bodies, eq. 20-23;
+//! * [`contact`]: penalty contact and the contact force with friction, eq. 4-11, 19;
+//! * [`friction`]: the friction coefficient of both laws, eq. 12-19 and ref. [11];
+//! * [`pulley`]: a pulley's drive and load, eq. 24;
 //! * [`groove`]: the wedge factor of a V-ribbed groove on the friction
 //!   coefficient;
-//! * [`tensioner`]: the pivot torque of an automatic tensioner arm (spring,
-//!   viscous damper, regularised Coulomb friction);
 //! * [`decoupler`]: the one-way decoupler between a pulley hub and its
-//!   rotor (torsion spring and damper in series with a one-way clutch).
+//!   rotor (torsion spring and damper in series with a one-way clutch);
+//! * [`tensioner`]: the pivot torque of an automatic tensioner arm (spring,
+//!   viscous damper, regularised Coulomb friction), not used by the
+//!   equations of motion (docs/model.md, "Not modelled").
 
+pub mod contact;
 pub mod decoupler;
+pub mod friction;
 pub mod groove;
+pub mod pulley;
+pub mod sde;
 pub mod tensioner;

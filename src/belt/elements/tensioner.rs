@@ -16,7 +16,7 @@
 //! adds to the spring when the arm is pushed back (belt tension rising)
 //! and subtracts from it when the arm follows the belt.
 
-use crate::belt::friction::{s_curve, s_curve_slope};
+use super::friction::{s_curve, s_curve_slope};
 
 /// Arm rate over which the pivot friction builds up [rad/s]: 0.57 deg/s,
 /// small against the rates of an arm that flutters by tenths of a degree at

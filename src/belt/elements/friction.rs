@@ -13,7 +13,7 @@
 //! S(1) = 1, S'(1) = 0 (docs/model.md, "Friction").
 
 use super::contact::{smoothstep, smoothstep_slope};
-use super::params::FrictionLaw;
+use crate::belt::params::FrictionLaw;
 
 /// Odd S-curve: the upper half of eq. 10's course stretched over [-1, 1].
 #[inline(always)]
@@ -183,6 +183,16 @@ impl Friction {
             0.0
         } else {
             v_t
+        }
+    }
+
+    /// Slope of [`Self::creep_rate`] in `v_t`: 1, or 0 while held at the cap.
+    #[inline(always)]
+    pub fn creep_rate_slope(&self, v_t: f64, z: f64) -> f64 {
+        if z.abs() >= self.creep_cap() && v_t * z > 0.0 {
+            0.0
+        } else {
+            1.0
         }
     }
 }

@@ -1,0 +1,402 @@
+//! Belt-pulley penalty contact, eq. 4-11 of section 2.2, and the contact
+//! force with its friction part (eq. 19) and partial derivatives. The
+//! geometry of a body centre against a pulley circle ([`kinematics`]), the
+//! normal force law ([`ContactLaw`]) and the force with its partials
+//! ([`force_partials`]) live here and nowhere else.
+
+use nalgebra::{Matrix2, RowVector2, Vector2};
+
+/// Smoothstep of eq. 10-11 on [0, 1]: 0 below, x^2 (3 - 2x) inside, 1 above.
+#[inline(always)]
+pub fn smoothstep(x: f64) -> f64 {
+    let x = x.clamp(0.0, 1.0);
+    x * x * (3.0 - 2.0 * x)
+}
+
+/// Penalty law of one body (constants already multiplied by the body length).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[allow(missing_docs)]
+pub struct ContactLaw {
+    /// Quadratic stiffness [N/m^2].
+    pub c1: f64,
+    /// Linear stiffness [N/m].
+    pub c2: f64,
+    /// Damping [N s/m].
+    pub b: f64,
+    /// 1 / p_max [1/m].
+    pub inv_p_max: f64,
+}
+
+/// Derivative of [`smoothstep`].
+#[inline(always)]
+pub fn smoothstep_slope(x: f64) -> f64 {
+    if x <= 0.0 || x >= 1.0 {
+        0.0
+    } else {
+        6.0 * x * (1.0 - x)
+    }
+}
+
+impl ContactLaw {
+    /// Normal force for penetration `p` > 0 and penetration rate `p_dot`
+    /// (eq. 9), never negative (the belt cannot pull on the pulley), and its
+    /// elastic part.
+    #[inline(always)]
+    pub fn normal_force(&self, p: f64, p_dot: f64) -> (f64, f64) {
+        let elastic = (self.c1 * p + self.c2) * p;
+        let n = elastic + smoothstep(p * self.inv_p_max) * self.b * p_dot;
+        (n.max(0.0), elastic)
+    }
+
+    /// Damping ratio of a body of `mass` bouncing on the pulley at
+    /// penetration `p`: delta(p) b / (2 sqrt(k m)) with the tangent
+    /// stiffness k = 2 c1 p + c2 (eq. 9-11).
+    pub fn damping_ratio(&self, p: f64, mass: f64) -> f64 {
+        let k = 2.0 * self.c1 * p + self.c2;
+        smoothstep(p * self.inv_p_max) * self.b / (2.0 * (k * mass).sqrt())
+    }
+
+    /// [`normal_force`](Self::normal_force) with its partial derivatives
+    /// `(N, dN/dp, dN/dp_dot)` (zero where the clamp at 0 is active), for the
+    /// Jacobian of the implicit integrator.
+    #[inline(always)]
+    pub fn normal_force_jac(&self, p: f64, p_dot: f64) -> (f64, f64, f64) {
+        let x = p * self.inv_p_max;
+        let s = smoothstep(x);
+        let n = (self.c1 * p + self.c2) * p + s * self.b * p_dot;
+        if n <= 0.0 {
+            return (0.0, 0.0, 0.0);
+        }
+        let dn_dp =
+            2.0 * self.c1 * p + self.c2 + smoothstep_slope(x) * self.inv_p_max * self.b * p_dot;
+        (n, dn_dp, s * self.b)
+    }
+
+    /// Elastic energy stored at penetration `p` (the integral of the elastic part).
+    pub fn energy(&self, p: f64) -> f64 {
+        if p <= 0.0 {
+            0.0
+        } else {
+            p * p * (self.c1 * p / 3.0 + 0.5 * self.c2)
+        }
+    }
+}
+
+/// A body centre relative to a pulley (eq. 4-8, 14-18): the squared and
+/// plain distance from the pulley centre, the outward normal `n` and the
+/// tangent `t` (n turned by +90 degrees), the penetration `p = r_p - dist`
+/// and its rate, and the relative tangential velocity `v_T` of the pulley
+/// surface over the body (the pulley radius as lever: `v_T = omega r_p - v.t`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactKin {
+    /// Squared distance of the body centre from the pulley centre [m^2].
+    pub d2: f64,
+    /// Distance [m].
+    pub dist: f64,
+    /// 1 / max(dist, 1e-12) [1/m].
+    pub inv_dist: f64,
+    /// Outward unit normal.
+    pub n: [f64; 2],
+    /// Unit tangent, the direction of positive pulley rotation.
+    pub t: [f64; 2],
+    /// Penetration [m] (positive inside the circle).
+    pub p: f64,
+    /// Penetration rate [m/s].
+    pub p_dot: f64,
+    /// Tangential velocity of the pulley surface relative to the body [m/s].
+    pub v_t: f64,
+}
+
+/// [`ContactKin`] of a body at `r` from the centre of a pulley of `radius`
+/// whose surface moves at `surface` (= omega r_p), body velocity `v`.
+#[inline(always)]
+pub fn kinematics(r: [f64; 2], v: [f64; 2], radius: f64, surface: f64) -> ContactKin {
+    let [rx, ry] = r;
+    let [vx, vy] = v;
+    let d2 = rx * rx + ry * ry;
+    let dist = d2.sqrt();
+    let inv_dist = 1.0 / dist.max(1e-12);
+    let (nx, ny) = (rx * inv_dist, ry * inv_dist);
+    let p = radius - dist;
+    let p_dot = -(vx * nx + vy * ny);
+    let (tx, ty) = (-ny, nx);
+    let v_t = surface - (vx * tx + vy * ty);
+    ContactKin {
+        d2,
+        dist,
+        inv_dist,
+        n: [nx, ny],
+        t: [tx, ty],
+        p,
+        p_dot,
+        v_t,
+    }
+}
+
+/// Force on the body: the normal force `normal` along n plus the friction
+/// force `f = mu N` along t (eq. 19).
+#[inline(always)]
+pub fn force(k: &ContactKin, normal: f64, f: f64) -> [f64; 2] {
+    [normal * k.n[0] + f * k.t[0], normal * k.n[1] + f * k.t[1]]
+}
+
+/// Power dissipated by one contact: the normal damper (the normal force
+/// beyond its elastic part `elastic` times the penetration rate) plus
+/// friction (f v_T).
+#[inline(always)]
+pub fn dissipation(k: &ContactKin, normal: f64, elastic: f64, f: f64) -> f64 {
+    (normal - elastic) * k.p_dot + f * k.v_t
+}
+
+/// Partial derivatives of one contact's force ([`force`]) on a body, for
+/// the Jacobian.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactPartials {
+    /// Friction force f = mu N along the tangent [N].
+    pub f: f64,
+    /// dF/dx (2 x 2) of the body centre position.
+    pub f_x: Matrix2<f64>,
+    /// dF/dv (2 x 2) of the body centre velocity.
+    pub f_v: Matrix2<f64>,
+    /// df/dx and df/dv of the friction force alone (the pulley's torque -r f).
+    pub fric_x: RowVector2<f64>,
+    /// See `fric_x`.
+    pub fric_v: RowVector2<f64>,
+    /// df/dz: the friction force's slope in the creep displacement.
+    pub fric_z: f64,
+    /// df/d(omega_p): its slope in the pulley speed (through v_T = omega r_p - ...).
+    pub fric_w: f64,
+    /// dv_T/dx and dv_T/dv (the creep rate's slopes).
+    pub vt_x: RowVector2<f64>,
+    /// See `vt_x`.
+    pub vt_v: RowVector2<f64>,
+}
+
+/// Partial derivatives of the contact force `F = N n + mu N t` of a body
+/// at `k` ([`kinematics`]) with velocity `v`, given the normal force and
+/// its partials `(N, dN/dp, dN/dp')` ([`ContactLaw::normal_force_jac`]) and
+/// the friction coefficient with its partials `(mu, dmu/dv_T, dmu/dz)`
+/// (the friction law's `coefficient_jac`), on a pulley of `radius`.
+/// With dn/dx = t t^T / dist and dt/dx = -n t^T / dist.
+#[inline(always)]
+pub fn force_partials(
+    k: &ContactKin,
+    v: [f64; 2],
+    normal: (f64, f64, f64),
+    mu: (f64, f64, f64),
+    radius: f64,
+) -> ContactPartials {
+    let (n_force, dn_dp, dn_dpd) = normal;
+    let (mu, dmu_dv, dmu_dz) = mu;
+    let v = Vector2::from(v);
+    let nrm = Vector2::from(k.n);
+    let tau = Vector2::from(k.t);
+    let inv = k.inv_dist;
+    let f = mu * n_force;
+    // gradients of p, p_dot, v_T with respect to x and v
+    let dpd_dx = -(v.dot(&tau) * inv) * tau.transpose();
+    let vt_x = (v.dot(&nrm) * inv) * tau.transpose();
+    let vt_v = -tau.transpose();
+    let dn_dx = -dn_dp * nrm.transpose() + dn_dpd * dpd_dx;
+    let dn_dv = -dn_dpd * nrm.transpose();
+    let fric_x = mu * dn_dx + n_force * dmu_dv * vt_x;
+    let fric_v = mu * dn_dv + n_force * dmu_dv * vt_v;
+    let f_x = nrm * dn_dx + (n_force * inv) * tau * tau.transpose() + tau * fric_x
+        - (f * inv) * nrm * tau.transpose();
+    let f_v = nrm * dn_dv + tau * fric_v;
+    ContactPartials {
+        f,
+        f_x,
+        f_v,
+        fric_x,
+        fric_v,
+        fric_z: n_force * dmu_dz,
+        fric_w: n_force * dmu_dv * radius,
+        vt_x,
+        vt_v,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::belt::elements::friction::Friction;
+    use crate::belt::params::FrictionLaw;
+
+    /// The contact force of a body at (x, v, z) on a pulley turning at w,
+    /// evaluated as the right-hand side does, and its friction force.
+    fn contact(
+        law: &ContactLaw,
+        fr: &Friction,
+        x: [f64; 2],
+        v: [f64; 2],
+        z: f64,
+        w: f64,
+    ) -> ([f64; 2], f64) {
+        let radius = 0.05;
+        let k = kinematics(x, v, radius, w * radius);
+        let (normal, _) = law.normal_force(k.p, k.p_dot);
+        let f = fr.coefficient(k.v_t, z, 1.05, 0.9) * normal;
+        (force(&k, normal, f), f)
+    }
+
+    /// [`force_partials`] against central differences of [`force`] through
+    /// [`kinematics`], [`ContactLaw::normal_force`] and both friction laws,
+    /// in slip and in stick. Steps of 1e-9 m (penetrations are ~1e-5 m:
+    /// truncation ~(1e-4)^2 relative), 1e-7 m/s and 1e-7 rad/s for the speeds
+    /// (v_T's scale dv = 1e-3: ~1e-8 relative); 1e-5 relative of the entry's
+    /// row scale covers truncation and rounding (~1e-16 N / 1e-9 m against
+    /// slopes of ~1e6 N/m).
+    #[test]
+    fn force_partials_match_differences() {
+        let law = ContactLaw {
+            c1: 3.0e9 * 0.01,
+            c2: 6.5e5 * 0.01,
+            b: 300.0 * 0.01,
+            inv_p_max: 1e4,
+        };
+        for fl in [FrictionLaw::Kubas2014, FrictionLaw::Creep] {
+            let fr = Friction::new(fl, 1e-3, 1e-4, 2e-4);
+            // (x, v, z, w): slip, stick, near the cap
+            for &(x, v, z, w) in &[
+                ([0.03, 0.0399], [-1.2, 0.9], 2e-5, 30.01),
+                ([-0.0248, 0.0433], [-0.86676, -0.4999], -4e-5, 19.99),
+                ([0.049_99, 0.0001], [0.01, 1.0], 1.2e-4, 20.1),
+            ] {
+                let radius = 0.05;
+                let k = kinematics(x, v, radius, w * radius);
+                assert!(k.p > 0.0);
+                let nj = law.normal_force_jac(k.p, k.p_dot);
+                let mj = fr.coefficient_jac(k.v_t, z, 1.05, 0.9);
+                let cp = force_partials(&k, v, nj, mj, radius);
+                assert_eq!(cp.f, contact(&law, &fr, x, v, z, w).1);
+                let check = |m: &[[f64; 2]; 2], fd: &dyn Fn(usize, usize) -> f64, what: &str| {
+                    for (r, row) in m.iter().enumerate() {
+                        let scale = row[0].abs().max(row[1].abs()).max(1e-3);
+                        for (c, &entry) in row.iter().enumerate() {
+                            let d = fd(r, c);
+                            assert!(
+                                (entry - d).abs() <= 1e-5 * scale,
+                                "{fl:?} {what}[{r}{c}]: {entry} vs {d}"
+                            );
+                        }
+                    }
+                };
+                let (hx, hv) = (1e-9, 1e-7);
+                let dx = |r: usize, c: usize| {
+                    let (mut a, mut b) = (x, x);
+                    a[c] += hx;
+                    b[c] -= hx;
+                    (contact(&law, &fr, a, v, z, w).0[r] - contact(&law, &fr, b, v, z, w).0[r])
+                        / (2.0 * hx)
+                };
+                let dv = |r: usize, c: usize| {
+                    let (mut a, mut b) = (v, v);
+                    a[c] += hv;
+                    b[c] -= hv;
+                    (contact(&law, &fr, x, a, z, w).0[r] - contact(&law, &fr, x, b, z, w).0[r])
+                        / (2.0 * hv)
+                };
+                let m = |m: &Matrix2<f64>| [[m[(0, 0)], m[(0, 1)]], [m[(1, 0)], m[(1, 1)]]];
+                check(&m(&cp.f_x), &dx, "F_x");
+                check(&m(&cp.f_v), &dv, "F_v");
+                // friction force in z and in the pulley speed
+                let (hz, hw) = (1e-10, 1e-7);
+                let fz = (contact(&law, &fr, x, v, z + hz, w).1
+                    - contact(&law, &fr, x, v, z - hz, w).1)
+                    / (2.0 * hz);
+                let fw = (contact(&law, &fr, x, v, z, w + hw).1
+                    - contact(&law, &fr, x, v, z, w - hw).1)
+                    / (2.0 * hw);
+                assert!(
+                    (cp.fric_z - fz).abs() <= 1e-5 * fz.abs().max(1.0),
+                    "{fl:?} {} {fz}",
+                    cp.fric_z
+                );
+                assert!(
+                    (cp.fric_w - fw).abs() <= 1e-5 * fw.abs().max(1e-3),
+                    "{fl:?} {} {fw}",
+                    cp.fric_w
+                );
+                // friction force alone in x and v (the pulley torque's slopes)
+                for c in 0..2 {
+                    let (mut a, mut b) = (x, x);
+                    a[c] += hx;
+                    b[c] -= hx;
+                    let fx = (contact(&law, &fr, a, v, z, w).1 - contact(&law, &fr, b, v, z, w).1)
+                        / (2.0 * hx);
+                    let (mut a, mut b) = (v, v);
+                    a[c] += hv;
+                    b[c] -= hv;
+                    let fv = (contact(&law, &fr, x, a, z, w).1 - contact(&law, &fr, x, b, z, w).1)
+                        / (2.0 * hv);
+                    let s = cp.fric_x.abs().max().max(1e-3);
+                    assert!(
+                        (cp.fric_x[c] - fx).abs() <= 1e-5 * s,
+                        "{fl:?} {} {fx}",
+                        cp.fric_x[c]
+                    );
+                    let s = cp.fric_v.abs().max().max(1e-3);
+                    assert!(
+                        (cp.fric_v[c] - fv).abs() <= 1e-5 * s,
+                        "{fl:?} {} {fv}",
+                        cp.fric_v[c]
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn smoothstep_ends_and_midpoint() {
+        assert_eq!(smoothstep(-1.0), 0.0);
+        assert_eq!(smoothstep(0.0), 0.0);
+        assert_eq!(smoothstep(0.5), 0.5);
+        assert_eq!(smoothstep(1.0), 1.0);
+        assert_eq!(smoothstep(3.0), 1.0);
+    }
+
+    #[test]
+    fn normal_force_derivatives_match_differences() {
+        let law = ContactLaw {
+            c1: 3.0e9,
+            c2: 6.5e5,
+            b: 300.0,
+            inv_p_max: 1e4,
+        };
+        for &(p, pd) in &[(2e-5, 0.01), (5e-5, -0.02), (2e-4, 0.3), (1e-4, 0.0)] {
+            let (n, dp, dpd) = law.normal_force_jac(p, pd);
+            assert_eq!(n, law.normal_force(p, pd).0);
+            let (e1, e2) = (1e-10, 1e-7);
+            let fp = (law.normal_force(p + e1, pd).0 - law.normal_force(p - e1, pd).0) / (2.0 * e1);
+            let fpd =
+                (law.normal_force(p, pd + e2).0 - law.normal_force(p, pd - e2).0) / (2.0 * e2);
+            assert!((dp - fp).abs() <= 1e-6 * fp.abs().max(1.0), "{dp} {fp}");
+            assert!(
+                (dpd - fpd).abs() <= 1e-6 * fpd.abs().max(1.0),
+                "{dpd} {fpd}"
+            );
+        }
+        // clamped: no force, no slope
+        assert_eq!(law.normal_force_jac(1e-6, -100.0), (0.0, 0.0, 0.0));
+    }
+
+    #[test]
+    fn normal_force_is_elastic_at_rest_and_never_pulls() {
+        let law = ContactLaw {
+            c1: 3.0e9,
+            c2: 6.5e5,
+            b: 300.0,
+            inv_p_max: 1e3,
+        };
+        let p = 1e-4;
+        let (n, e) = law.normal_force(p, 0.0);
+        assert_eq!(n, e);
+        assert!((e - (3.0e9 * p * p + 6.5e5 * p)).abs() < 1e-9);
+        // Fast separation: damping would pull; the force is clamped at 0.
+        assert_eq!(law.normal_force(p, -100.0).0, 0.0);
+        // Energy is the integral of the elastic force (Simpson, exact for cubics).
+        let (f0, fm, f1) = (0.0, law.normal_force(p / 2.0, 0.0).1, e);
+        assert!((law.energy(p) - p / 6.0 * (f0 + 4.0 * fm + f1)).abs() < 1e-15);
+    }
+}

@@ -1,0 +1,266 @@
+//! The spring-damper elements (SDE) that join neighbouring belt bodies,
+//! eq. 20-23 of section 2.1: a translational Kelvin-Voigt element between
+//! the end points of two bodies ([`AxialSde`]) and a torsional one between
+//! their angles ([`TorsionalSde`]). Force, partial derivatives, stored
+//! energy and dissipated power of each law live here and nowhere else; the
+//! right-hand side, the Jacobian, the outputs and the energy balance call
+//! these functions.
+
+use nalgebra::{Matrix2, Vector2};
+
+/// The end of a belt body that an SDE attaches to: the body centre
+/// `(x, y)`, the half body vector `h = (l/2)(cos phi, sin phi)` (eq. 1),
+/// the centre's velocity `(vx, vy)` and the angular velocity `w`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BodyEnd {
+    /// Centre x [m].
+    pub x: f64,
+    /// Centre y [m].
+    pub y: f64,
+    /// Half body vector, x component [m].
+    pub hx: f64,
+    /// Half body vector, y component [m].
+    pub hy: f64,
+    /// Centre velocity x [m/s].
+    pub vx: f64,
+    /// Centre velocity y [m/s].
+    pub vy: f64,
+    /// Angular velocity [rad/s].
+    pub w: f64,
+}
+
+/// Gap vector `d` from the right end of body `p` (centre + h) to the left
+/// end of the following body `c` (centre - h), and its time derivative
+/// (eq. 20-21; the end velocity is v + w x (+-h)).
+#[inline(always)]
+pub fn gap(p: BodyEnd, c: BodyEnd) -> ([f64; 2], [f64; 2]) {
+    let d0 = (c.x - c.hx) - (p.x + p.hx);
+    let d1 = (c.y - c.hy) - (p.y + p.hy);
+    let dd0 = (c.vx + c.w * c.hy) - (p.vx - p.w * p.hy);
+    let dd1 = (c.vy - c.w * c.hx) - (p.vy + p.w * p.hx);
+    ([d0, d1], [dd0, dd1])
+}
+
+/// Translational SDE: a zero-rest-length Kelvin-Voigt element between the
+/// end points of two neighbouring bodies (eq. 20-23). Its elastic force is
+/// `k d` (k = EA/l), its damping force `b rho d` acts along the gap, with
+/// the stretch rate `rho = d.d' / (|d|^2 + eps2)` regularised at a zero
+/// gap.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AxialSde {
+    /// Stiffness EA/l [N/m].
+    pub k: f64,
+    /// Damping B/l [N s/m].
+    pub b: f64,
+    /// Squared regularisation length of the direction at a zero gap [m^2].
+    pub eps2: f64,
+}
+
+impl AxialSde {
+    /// `(|d|^2, rho)`: squared gap length and stretch rate.
+    #[inline(always)]
+    pub fn rate(&self, d: [f64; 2], dd: [f64; 2]) -> (f64, f64) {
+        let d2 = d[0] * d[0] + d[1] * d[1];
+        let rate = (d[0] * dd[0] + d[1] * dd[1]) / (d2 + self.eps2);
+        (d2, rate)
+    }
+
+    /// Force on the following body (minus it on the preceding one) for gap
+    /// `d` and stretch rate `rate` ([`Self::rate`]).
+    #[inline(always)]
+    pub fn force(&self, d: [f64; 2], rate: f64) -> [f64; 2] {
+        let (k, b) = (self.k, self.b);
+        [k * d[0] + b * rate * d[0], k * d[1] + b * rate * d[1]]
+    }
+
+    /// Belt tension carried by the element: the force's length |d| (k + b rho).
+    #[inline(always)]
+    pub fn tension(&self, d2: f64, rate: f64) -> f64 {
+        let l = d2.sqrt();
+        self.k * l + self.b * rate * l
+    }
+
+    /// Power dissipated by the damper, b rho^2 |d|^2.
+    #[inline(always)]
+    pub fn dissipation(&self, d2: f64, rate: f64) -> f64 {
+        self.b * rate * rate * d2
+    }
+
+    /// Elastic energy stored at squared gap length `d2`: k |d|^2 / 2.
+    #[inline(always)]
+    pub fn energy(&self, d2: f64) -> f64 {
+        0.5 * self.k * d2
+    }
+
+    /// The force ([`Self::force`]) and its partial derivatives with respect
+    /// to the gap `d` and to its rate `d'`, for the Jacobian:
+    /// `F_d = (k + b rho) I + b d (d rho/d d)^T`, `F_d' = b d d^T / (|d|^2 + eps2)`.
+    #[inline(always)]
+    pub fn partials(
+        &self,
+        d: [f64; 2],
+        dd: [f64; 2],
+    ) -> (Vector2<f64>, Matrix2<f64>, Matrix2<f64>) {
+        let (d2, rho) = self.rate(d, dd);
+        let den = d2 + self.eps2;
+        let f = self.force(d, rho);
+        let (d, dd) = (Vector2::from(d), Vector2::from(dd));
+        let drho_dd = dd / den - (2.0 * rho / den) * d;
+        let f_d = Matrix2::identity() * (self.k + self.b * rho) + self.b * d * drho_dd.transpose();
+        let f_dd = (self.b / den) * d * d.transpose();
+        (Vector2::from(f), f_d, f_dd)
+    }
+}
+
+/// Torsional SDE between the angles of two neighbouring bodies (eq. 22-23):
+/// moment `M = k dphi + b dw` on the following body (minus it on the
+/// preceding one), k = EI/l.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TorsionalSde {
+    /// Bending stiffness EI/l [N m/rad].
+    pub k: f64,
+    /// Bending damping [N m s/rad].
+    pub b: f64,
+}
+
+impl TorsionalSde {
+    /// Moment for the angle difference `dphi` (wrapped to (-pi, pi]) and
+    /// the angular velocity difference `dw`.
+    #[inline(always)]
+    pub fn moment(&self, dphi: f64, dw: f64) -> f64 {
+        self.k * dphi + self.b * dw
+    }
+
+    /// Partial derivatives of [`Self::moment`]: `(dM/d dphi, dM/d dw)`.
+    #[inline(always)]
+    pub fn partials(&self) -> (f64, f64) {
+        (self.k, self.b)
+    }
+
+    /// Power dissipated by the damper, b dw^2.
+    #[inline(always)]
+    pub fn dissipation(&self, dw: f64) -> f64 {
+        self.b * dw * dw
+    }
+
+    /// Elastic energy k dphi^2 / 2.
+    #[inline(always)]
+    pub fn energy(&self, dphi: f64) -> f64 {
+        0.5 * self.k * dphi * dphi
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const AXIAL: AxialSde = AxialSde {
+        k: 2.0e6,
+        b: 35.0,
+        eps2: 1e-16,
+    };
+
+    fn force_of(d: [f64; 2], dd: [f64; 2]) -> [f64; 2] {
+        AXIAL.force(d, AXIAL.rate(d, dd).1)
+    }
+
+    /// Central differences of the force against [`AxialSde::partials`].
+    /// Steps of 1e-4 of the gap and rate: the force is smooth there (a
+    /// quotient of quadratics), so the truncation error is ~(1e-4)^2
+    /// relative and rounding ~1e-16 / 1e-4; 1e-6 relative covers both.
+    #[test]
+    fn axial_partials_match_differences() {
+        for &(d, dd) in &[
+            ([1.2e-4, -3.0e-5], [0.02, 0.5]),
+            ([-2.0e-3, 4.0e-4], [-1.5, 0.3]),
+            ([5.0e-5, 5.0e-5], [0.0, 0.0]),
+        ] {
+            let (f, f_d, f_dd) = AXIAL.partials(d, dd);
+            assert_eq!([f[0], f[1]], force_of(d, dd));
+            for c in 0..2 {
+                let h = 1e-4 * (d[0].abs() + d[1].abs());
+                let (mut a, mut b) = (d, d);
+                a[c] += h;
+                b[c] -= h;
+                let (fa, fb) = (force_of(a, dd), force_of(b, dd));
+                let hv = 1e-4 * (dd[0].abs() + dd[1].abs()).max(1.0);
+                let (mut a, mut b) = (dd, dd);
+                a[c] += hv;
+                b[c] -= hv;
+                let (ga, gb) = (force_of(d, a), force_of(d, b));
+                for r in 0..2 {
+                    let fd = (fa[r] - fb[r]) / (2.0 * h);
+                    let gd = (ga[r] - gb[r]) / (2.0 * hv);
+                    let scale = f_d.abs().max() + 1.0;
+                    assert!((f_d[(r, c)] - fd).abs() <= 1e-6 * scale, "{:?} {fd}", f_d);
+                    let scale = f_dd.abs().max() + 1e-9;
+                    assert!((f_dd[(r, c)] - gd).abs() <= 1e-6 * scale, "{:?} {gd}", f_dd);
+                }
+            }
+        }
+    }
+
+    /// The elastic force is the gradient of the energy, the damping power is
+    /// the damping force times the gap rate (exact but for the regulariser
+    /// eps2 in rho's denominator: relative difference eps2 / |d|^2 = 1e-8 here).
+    #[test]
+    fn axial_energy_and_dissipation_agree_with_the_force() {
+        let d = [1.0e-4, 2.0e-5];
+        let dd = [0.3, -0.1];
+        let (d2, rate) = AXIAL.rate(d, dd);
+        let h = 1e-9;
+        let de = (AXIAL.energy((d[0] + h) * (d[0] + h) + d[1] * d[1])
+            - AXIAL.energy((d[0] - h) * (d[0] - h) + d[1] * d[1]))
+            / (2.0 * h);
+        let elastic = AXIAL.force(d, 0.0);
+        assert!(
+            (de - elastic[0]).abs() <= 1e-6 * elastic[0].abs(),
+            "{de} {elastic:?}"
+        );
+        let f = AXIAL.force(d, rate);
+        let damping_power = (f[0] - elastic[0]) * dd[0] + (f[1] - elastic[1]) * dd[1];
+        let diss = AXIAL.dissipation(d2, rate);
+        assert!(
+            (diss - damping_power).abs() <= 1e-7 * diss,
+            "{diss} {damping_power}"
+        );
+        // the tension is the force's length
+        let len = (f[0] * f[0] + f[1] * f[1]).sqrt();
+        assert!((AXIAL.tension(d2, rate) - len).abs() <= 1e-12 * len);
+    }
+
+    /// Moment linear in both arguments: differences are exact up to
+    /// rounding (1e-9 relative).
+    #[test]
+    fn torsional_partials_energy_and_dissipation() {
+        let t = TorsionalSde { k: 0.05, b: 1e-4 };
+        let (kp, kw) = t.partials();
+        let (dphi, dw, h) = (0.02, -3.0, 1e-3);
+        let fp = (t.moment(dphi + h, dw) - t.moment(dphi - h, dw)) / (2.0 * h);
+        let fw = (t.moment(dphi, dw + h) - t.moment(dphi, dw - h)) / (2.0 * h);
+        assert!((kp - fp).abs() <= 1e-9 * kp && (kw - fw).abs() <= 1e-9 * kw);
+        let de = (t.energy(dphi + h) - t.energy(dphi - h)) / (2.0 * h);
+        assert!((de - t.moment(dphi, 0.0)).abs() <= 1e-9 * de.abs());
+        let damping_power = (t.moment(dphi, dw) - t.moment(dphi, 0.0)) * dw;
+        assert!((t.dissipation(dw) - damping_power).abs() <= 1e-12 * damping_power.abs());
+    }
+
+    #[test]
+    fn gap_of_touching_ends_is_zero() {
+        // two bodies on the x axis, end to end, moving together
+        let p = BodyEnd {
+            x: 0.0,
+            y: 0.0,
+            hx: 0.5,
+            hy: 0.0,
+            vx: 1.0,
+            vy: 0.0,
+            w: 0.0,
+        };
+        let c = BodyEnd { x: 1.0, ..p };
+        assert_eq!(gap(p, c), ([0.0, 0.0], [0.0, 0.0]));
+        // rotating the following body about its centre moves its left end down
+        let c = BodyEnd { w: 2.0, ..c };
+        assert_eq!(gap(p, c).1, [0.0, -1.0]);
+    }
+}
