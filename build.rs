@@ -3,7 +3,7 @@
 //! its own): parses and checks the description (a violation fails the build
 //! with a message naming the line), hashes its GUID, and writes
 //!
-//! * `$OUT_DIR/variables.rs`, included by `src/variables.rs`: the variable
+//! * `$OUT_DIR/variables.rs`, included by `src/fmu/variables.rs`: the variable
 //!   table, `Var` (one variant per base name), `lookup`, `by_name`;
 //! * `$OUT_DIR/modelDescription.xml`, the description with its GUID.
 

@@ -515,7 +515,7 @@ fn main() {
 /// The built FMU binary through its C API (as tests/fmi_abi.rs loads it).
 mod fmu {
     use super::{cpu_time, Opts};
-    use belt_drive::variables::{by_name, GUID};
+    use belt_drive::fmu::variables::{by_name, GUID};
     use std::ffi::{c_char, c_int, c_uint, c_void, CString};
     use std::ptr;
 

@@ -5,14 +5,13 @@
 //!   It knows nothing about FMI.
 //! * [`fmi`] is the FMI 2.0 plumbing (C ABI, state machine, logging, FMU
 //!   state). It knows nothing about belts beyond the [`fmi::FmuModel`] trait.
-//! * [`fmu_model`] connects the two: it maps the variables of
-//!   `modelDescription/modelDescription.xml` onto the core's parameters,
-//!   inputs and outputs.
+//! * [`fmu`] connects the two: it maps the variables of
+//!   `modelDescription/modelDescription.xml` (its generated table,
+//!   [`fmu::variables`]) onto the core's parameters, inputs and outputs.
 
 pub mod belt;
 pub mod fmi;
-pub mod fmu_model;
-pub mod variables;
+pub mod fmu;
 
 // The FMU's C functions, for its one model.
-export_fmi2_co_simulation!(fmu_model::BeltDrive);
+export_fmi2_co_simulation!(fmu::BeltDrive);

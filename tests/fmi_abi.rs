@@ -10,7 +10,7 @@ use std::ffi::{c_char, c_int, CStr, CString};
 use std::ptr;
 
 use abi::*;
-use belt_drive::variables::GUID;
+use belt_drive::fmu::variables::GUID;
 
 const OUTPUTS: &[&str] = &[
     "pulley[1].omega",

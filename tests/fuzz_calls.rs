@@ -28,7 +28,7 @@ use std::ffi::{c_char, c_int, c_uint, c_void, CString};
 use std::ptr;
 
 use abi::*;
-use belt_drive::variables::{Causality, VarInfo, VarType, Variability, GUID, VARIABLES};
+use belt_drive::fmu::variables::{Causality, VarInfo, VarType, Variability, GUID, VARIABLES};
 
 /// CI: sequences and calls per sequence.
 const CI_SEQUENCES: usize = 300;
@@ -210,7 +210,7 @@ impl<'a> Fuzzer<'a> {
             .iter()
             .find(|v| v.vr == vr)
             .and_then(|v| match v.start {
-                belt_drive::variables::Start::Real(x) => Some((x, v.causality)),
+                belt_drive::fmu::variables::Start::Real(x) => Some((x, v.causality)),
                 _ => None,
             });
         match start {

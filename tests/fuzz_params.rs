@@ -20,7 +20,7 @@ use std::ffi::c_int;
 use std::time::{Duration, Instant};
 
 use abi::*;
-use belt_drive::variables::{Causality, Start, VarInfo, VARIABLES};
+use belt_drive::fmu::variables::{Causality, Start, VarInfo, VARIABLES};
 
 const CI_SETS: usize = 150;
 const CI_SEED: u64 = 0x7061_7261_6d73;

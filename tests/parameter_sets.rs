@@ -11,8 +11,8 @@ use std::path::Path;
 
 use belt_drive::belt::{Drive, DriveParams};
 use belt_drive::fmi::FmuModel;
-use belt_drive::fmu_model::BeltDrive;
-use belt_drive::variables::{by_name, Causality, VarType};
+use belt_drive::fmu::variables::{by_name, Causality, VarType};
+use belt_drive::fmu::BeltDrive;
 use model_description::ssv;
 
 /// (name, element, value) of every `ssv:Parameter` in an .ssv file.

@@ -16,7 +16,7 @@ use std::ffi::{c_char, c_int, c_uint, c_void, CStr, CString};
 use std::path::PathBuf;
 use std::ptr;
 
-use belt_drive::variables::{by_name, GUID};
+use belt_drive::fmu::variables::{by_name, GUID};
 
 pub const OK: c_int = 0;
 pub const WARNING: c_int = 1;

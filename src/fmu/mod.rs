@@ -1,14 +1,22 @@
-//! The adapter between the FMI plumbing and the belt physics: maps the
-//! variables of `modelDescription/modelDescription.xml` (through the table
-//! `build.rs` generates from it) onto [`DriveParams`], [`Inputs`] and
-//! [`Outputs`]. The only file that knows both worlds.
+//! The FMU's model: the adapter between the FMI plumbing and the belt
+//! physics, the only module that knows both worlds.
+//!
+//! * [`variables`]: the variable table generated from
+//!   `modelDescription/modelDescription.xml` (names, value references,
+//!   start values, ranges);
+//! * this module: [`BeltDrive`], the [`FmuModel`] the FMU exports: variables
+//!   onto [`DriveParams`], [`Inputs`] and [`Outputs`], defaults and ranges
+//!   from the table;
+//! * `snapshot`: the model's part of a serialized FMU state.
+
+mod snapshot;
+pub mod variables;
 
 use crate::belt::drive::Outputs;
 use crate::belt::params::{FrictionLaw, Method, PulleyParams, MAX_PULLEYS};
-use crate::belt::rkf45::Stats;
 use crate::belt::{Drive, DriveParams, Inputs};
 use crate::fmi::{FmuModel, ModelDescription, StepError};
-use crate::variables::{Start, Var, VarInfo, VarType, MODEL_DESCRIPTION, VARIABLES};
+use variables::{Start, Var, VarInfo, VarType, MODEL_DESCRIPTION, VARIABLES};
 
 /// Integer parameters as the user set them; checked against the ranges of
 /// the model description when the drive is built, so the message can name
@@ -439,186 +447,11 @@ impl FmuModel for BeltDrive {
     }
 }
 
-/// Byte image of a [`BeltDrive`]: every parameter, the inputs and, once
-/// built, time, state, step size and counters. The drive is rebuilt from the
-/// parameters (deterministic) and its state replaced, so a restored model
-/// continues bit-identically.
-mod snapshot {
-    use super::*;
-
-    /// 2: integrator data (the stiff method's kept Jacobian) after the state.
-    const VERSION: u32 = 2;
-
-    struct Writer<'a>(&'a mut Vec<u8>);
-    impl Writer<'_> {
-        fn f64(&mut self, x: f64) {
-            self.0.extend_from_slice(&x.to_le_bytes());
-        }
-        fn u64(&mut self, x: u64) {
-            self.0.extend_from_slice(&x.to_le_bytes());
-        }
-        fn i32(&mut self, x: i32) {
-            self.0.extend_from_slice(&x.to_le_bytes());
-        }
-        fn f64s(&mut self, xs: &[f64]) {
-            self.u64(xs.len() as u64);
-            xs.iter().for_each(|&x| self.f64(x));
-        }
-    }
-
-    struct Reader<'a>(&'a [u8]);
-    impl Reader<'_> {
-        fn take<const N: usize>(&mut self) -> Result<[u8; N], String> {
-            if self.0.len() < N {
-                return Err("model state is truncated".into());
-            }
-            let (head, rest) = self.0.split_at(N);
-            self.0 = rest;
-            Ok(head.try_into().expect("length checked"))
-        }
-        fn f64(&mut self) -> Result<f64, String> {
-            Ok(f64::from_le_bytes(self.take()?))
-        }
-        fn u64(&mut self) -> Result<u64, String> {
-            Ok(u64::from_le_bytes(self.take()?))
-        }
-        fn i32(&mut self) -> Result<i32, String> {
-            Ok(i32::from_le_bytes(self.take()?))
-        }
-        fn f64s(&mut self, expect: usize) -> Result<Vec<f64>, String> {
-            let n = self.u64()?;
-            if n != expect as u64 {
-                return Err(format!(
-                    "model state holds {n} values where {expect} belong"
-                ));
-            }
-            (0..expect).map(|_| self.f64()).collect()
-        }
-        /// A length-prefixed list whose length is known only from the data:
-        /// refused unless the bytes for it are there.
-        fn f64s_any(&mut self) -> Result<Vec<f64>, String> {
-            let n = self.u64()?;
-            if n > (self.0.len() / 8) as u64 {
-                return Err("model state is truncated".into());
-            }
-            (0..n).map(|_| self.f64()).collect()
-        }
-    }
-
-    /// Every variable that is a parameter, in model-description order.
-    fn parameters() -> impl Iterator<Item = &'static VarInfo> {
-        VARIABLES
-            .iter()
-            .filter(|v| {
-                matches!(
-                    v.start,
-                    Start::Real(_) | Start::Integer(_) | Start::Boolean(_)
-                )
-            })
-            .filter(|v| !matches!(v.var, Var::PulleyTorque | Var::PulleyOmegaRef))
-    }
-
-    pub fn write(m: &BeltDrive, out: &mut Vec<u8>) {
-        let mut w = Writer(out);
-        w.0.extend_from_slice(&VERSION.to_le_bytes());
-        let mut m2 = m.clone();
-        for v in parameters() {
-            match v.start {
-                Start::Real(_) => w.f64(m2.get_real(v).unwrap_or(f64::NAN)),
-                Start::Integer(_) => w.i32(m2.get_integer(v).unwrap_or(0)),
-                Start::Boolean(_) => w.i32(m2.get_boolean(v).unwrap_or(false) as i32),
-                _ => {}
-            }
-        }
-        w.f64(m.start_time);
-        let i = &m.inputs;
-        for xs in [&i.torque, &i.torque_rate, &i.omega_ref, &i.omega_ref_rate] {
-            w.f64s(xs);
-        }
-        match &m.drive {
-            None => w.u64(0),
-            Some(d) => {
-                w.u64(1);
-                w.f64(d.time());
-                w.f64(d.inputs().t0);
-                w.f64(d.next_step_size());
-                let s = d.stats();
-                w.u64(s.steps);
-                w.u64(s.rejected);
-                w.u64(s.rhs_evals);
-                w.f64(s.last_step);
-                w.f64s(d.state());
-                w.f64s(&d.integrator_data());
-            }
-        }
-    }
-
-    pub fn read(bytes: &[u8]) -> Result<BeltDrive, String> {
-        let mut r = Reader(bytes);
-        let version = u32::from_le_bytes(r.take()?);
-        if version != VERSION {
-            return Err(format!(
-                "model state version {version} is not supported (expected {VERSION})"
-            ));
-        }
-        let mut m = BeltDrive::new();
-        for v in parameters() {
-            match v.start {
-                Start::Real(_) => m.set_real(v, r.f64()?)?,
-                Start::Integer(_) => m.set_integer(v, r.i32()?)?,
-                Start::Boolean(_) => m.set_boolean(v, r.i32()? != 0)?,
-                _ => {}
-            }
-        }
-        m.start_time = r.f64()?;
-        let arr = |r: &mut Reader| -> Result<[f64; MAX_PULLEYS], String> {
-            let v = r.f64s(MAX_PULLEYS)?;
-            Ok(v.try_into().expect("length checked"))
-        };
-        m.inputs.torque = arr(&mut r)?;
-        m.inputs.torque_rate = arr(&mut r)?;
-        m.inputs.omega_ref = arr(&mut r)?;
-        m.inputs.omega_ref_rate = arr(&mut r)?;
-        match r.u64()? {
-            0 => {}
-            1 => {
-                let t = r.f64()?;
-                let t0 = r.f64()?;
-                let h = r.f64()?;
-                let stats = Stats {
-                    steps: r.u64()?,
-                    rejected: r.u64()?,
-                    rhs_evals: r.u64()?,
-                    last_step: r.f64()?,
-                };
-                let params = m.drive_params()?;
-                let mut drive = Drive::mounted(&params, m.start_time).map_err(|e| e.to_string())?;
-                let y = r.f64s(drive.state().len())?;
-                let mut inputs = m.inputs;
-                inputs.t0 = t0;
-                if !(t.is_finite() && h.is_finite() && h > 0.0 && y.iter().all(|x| x.is_finite())) {
-                    return Err("model state holds non-finite values".into());
-                }
-                let data = r.f64s_any()?;
-                if !drive.restore(t, &y, inputs, h, stats, &data) {
-                    return Err("model state's integrator data does not fit the parameters".into());
-                }
-                m.drive = Some(drive);
-            }
-            k => return Err(format!("model state is corrupt (drive flag {k})")),
-        }
-        if !r.0.is_empty() {
-            return Err(format!("model state has {} trailing bytes", r.0.len()));
-        }
-        Ok(m)
-    }
-}
-
 #[cfg(test)]
 mod tests {
+    use super::variables::{by_name, Causality};
     use super::*;
     use crate::belt::params::MAX_BODIES;
-    use crate::variables::{by_name, Causality};
 
     /// The scalar variable `var` of the model description.
     fn info(var: Var) -> &'static VarInfo {
