@@ -5,6 +5,8 @@
 //!   It knows nothing about FMI.
 //! * [`fmi`] is the FMI 2.0 plumbing (C ABI, state machine, logging, FMU
 //!   state). It knows nothing about belts beyond the [`fmi::FmuModel`] trait.
+//! * `modes` (feature `modes`): modal analysis from the analytic Jacobian
+//!   (docs/modes.md).
 //! * [`fmu`] connects the two: it maps the variables of
 //!   `modelDescription/modelDescription.xml` (its generated table,
 //!   [`fmu::variables`]) onto the core's parameters, inputs and outputs.
@@ -12,6 +14,8 @@
 pub mod belt;
 pub mod fmi;
 pub mod fmu;
+#[cfg(feature = "modes")]
+pub mod modes;
 
 // The FMU's C functions, for its one model.
 export_fmi2_co_simulation!(fmu::BeltDrive);

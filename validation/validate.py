@@ -1105,7 +1105,7 @@ def table_dv(a):
             law += " (the paper's)"
         meth = METHOD_NAME[r["method"]]
         if r.get("pending"):
-            rows.append([law, meth, "1.5-2 s", "pending: run separately"] + [""] * 8)
+            rows.append([law, meth, "1.5-2 s", "too slow for this study: results below the table"] + [""] * 8)
             continue
         win = f"{r['window'][0]:g}-{r['window'][1]:g} s"
         if "error" in r:
@@ -1181,7 +1181,7 @@ def main(argv=None):
                     help="averaging window of the integrator cross-check [s] (RKF45 at dv = 3e-2 m/s "
                          "costs ~7e6 steps per simulated second)")
     ap.add_argument("--dv-pending", default="1e-5",
-                    help="dv values listed as pending (run separately) unless in --dv-list")
+                    help="dv values listed as too slow for the study (results given in the text) unless in --dv-list")
     ap.add_argument("--time-limit", type=float, default=1200.0,
                     help="wall-time limit of each simulation [s], 0 for none: a run reaching it is stopped "
                          "and reported with the time it reached (default 20 min: kubas2014 at dv = 1e-4 m/s "

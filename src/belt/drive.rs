@@ -9,6 +9,7 @@ use super::model::{BeltSystem, Inputs, NoRecord, Recorder, BODY_DOF};
 use super::params::{DriveParams, Method, ParamError, MAX_PULLEYS};
 use super::rkf45::Rkf45;
 use super::rosenbrock::{Rosenbrock, StiffSystem};
+use super::solver_params::TUNING;
 use super::stepping::{OdeSystem, Stats, StepControl, StepFailure};
 
 impl OdeSystem for BeltSystem {
@@ -58,8 +59,8 @@ impl StiffSystem for BeltSystem {
     /// |v_T| < dv lands on the sliding branch, whose linearisation has no
     /// friction slope: the velocities keep full weight.
     fn error_mask(&self, mask: &mut [f64]) {
-        const ANGLES: f64 = 1e-3;
-        const CREEP_VELOCITIES: f64 = 1e-2;
+        const ANGLES: f64 = TUNING.weight_angles;
+        const CREEP_VELOCITIES: f64 = TUNING.weight_creep_velocities;
         mask.fill(1.0);
         let velocities = match self.friction.law {
             super::params::FrictionLaw::Creep => CREEP_VELOCITIES,
@@ -291,13 +292,19 @@ fn relax_into_equilibrium(sys: &BeltSystem, y: &mut [f64], max_steps: u64) {
     }
     relax.inputs = Inputs::default();
     // Contact mode of one body: stiffness dN/dp at the typical penetration.
-    let k_contact = relax.contact.c2 + 2.0 * relax.contact.c1 * 2e-4;
+    let k_contact = relax.contact.c2 + 2.0 * relax.contact.c1 * TUNING.relax_penetration;
     relax.relax_damping = 2.0 * (k_contact / relax.mass).sqrt();
     // Relax over a few axial diffusion times of the damped belt, at least
     // ten contact periods; stop early once everything is at rest.
-    const CHUNKS: u64 = 20;
+    const CHUNKS: u64 = TUNING.relax_chunks;
     let per_chunk = (max_steps.min(RELAX_MAX_STEPS) / CHUNKS).max(1);
-    let mut rk = Rkf45::new(y.len(), 1e-5, 1e-9, 1e-7, per_chunk);
+    let mut rk = Rkf45::new(
+        y.len(),
+        TUNING.relax_rel_tol,
+        TUNING.relax_abs_tol,
+        TUNING.relax_initial_step,
+        per_chunk,
+    );
     let mut t = 0.0;
     let period = std::f64::consts::TAU / (k_contact / relax.mass).sqrt();
     let chunk = 2.0 * period;
@@ -309,7 +316,7 @@ fn relax_into_equilibrium(sys: &BeltSystem, y: &mut [f64], max_steps: u64) {
         let v_max = (0..relax.n)
             .map(|i| y[BODY_DOF * i + 3].abs().max(y[BODY_DOF * i + 4].abs()))
             .fold(0.0, f64::max);
-        if t >= 10.0 * period && v_max < 1e-5 {
+        if t >= TUNING.relax_min_periods * period && v_max < TUNING.relax_rest_speed {
             break;
         }
     }
@@ -332,7 +339,7 @@ fn relax_into_equilibrium(sys: &BeltSystem, y: &mut [f64], max_steps: u64) {
 }
 
 /// Step-count guard of the equilibrium relaxation.
-const RELAX_MAX_STEPS: u64 = 5_000_000;
+const RELAX_MAX_STEPS: u64 = TUNING.relax_max_steps;
 
 /// A belt drive ready to run.
 #[derive(Clone, Debug, PartialEq)]
@@ -353,11 +360,11 @@ pub struct Drive {
 /// below which a wrap counts as undamped: the belt then rattles on the
 /// pulley after a shock and loses traction (docs/model.md, "Contact"; the
 /// paper's 5PK drive has 0.26, its section-3 drive as printed 6e-5).
-const WEAK_CONTACT_DAMPING: f64 = 0.02;
+const WEAK_CONTACT_DAMPING: f64 = TUNING.weak_contact_damping;
 
 /// Loosest relative tolerance the stiff method is trusted with (docs/model.md,
 /// "Integrators": at 1e-3 the 5PK drive's steps lose the creep arcs).
-const STIFF_MAX_REL_TOL: f64 = 1e-4;
+const STIFF_MAX_REL_TOL: f64 = TUNING.stiff_max_rel_tol;
 
 /// Parameter choices that are valid but make the drive behave badly, one
 /// message each, naming the parameter and the value to use instead.

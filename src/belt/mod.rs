@@ -7,6 +7,7 @@
 //!   friction, pulley drive and load, V-groove, one-way decoupler) with
 //!   partials, energy and dissipation;
 //! * [`model`]: equations of motion, eq. 20-24 (the right-hand side);
+//! * [`solver_params`]: every internal solver knob with its value and why;
 //! * [`stepping`]: adaptive step-size control shared by the integrators;
 //! * [`rkf45`]: the adaptive Runge-Kutta-Fehlberg 4(5) integrator;
 //! * [`jacobian`], [`iteration_matrix`], [`rosenbrock`]: the stiff
@@ -23,6 +24,7 @@ pub mod model;
 pub mod params;
 pub mod rkf45;
 pub mod rosenbrock;
+pub mod solver_params;
 pub mod stepping;
 pub mod trig;
 

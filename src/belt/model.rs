@@ -17,6 +17,7 @@ pub use super::elements::pulley::PulleyConst;
 use super::elements::sde::{self, AxialSde, BodyEnd, TorsionalSde};
 use super::layout::Layout;
 use super::params::{DriveParams, FrictionLaw, MAX_PULLEYS};
+use super::solver_params::TUNING;
 use super::trig;
 use std::sync::{Mutex, TryLockError};
 
@@ -476,7 +477,7 @@ impl BeltSystem {
             axial: AxialSde {
                 k: b.ea / l,
                 b: b.axial_damping / l,
-                eps2: (1e-6 * l) * (1e-6 * l),
+                eps2: (TUNING.sde_regularisation * l) * (TUNING.sde_regularisation * l),
             },
             bend: TorsionalSde {
                 k: b.bending_stiffness / l,

@@ -7,6 +7,7 @@
 //! integration lands exactly on the target time. All work vectors are
 //! allocated once.
 
+use super::solver_params::TUNING;
 use super::stepping::{EmbeddedMethod, StepControl};
 pub use super::stepping::{OdeSystem, Stats, StepFailure};
 
@@ -159,10 +160,11 @@ impl<S: OdeSystem> EmbeddedMethod<S> for Rkf45 {
 
     /// Error of order 5 (h^5): safety 0.9, growth limited to [0.2, 5].
     fn step_factor(&self, err: f64) -> f64 {
+        let t = &TUNING;
         if err == 0.0 {
-            5.0
+            t.rkf45_factor_max
         } else {
-            (0.9 * err.powf(-0.2)).clamp(0.2, 5.0)
+            (t.rkf45_safety * err.powf(-0.2)).clamp(t.rkf45_factor_min, t.rkf45_factor_max)
         }
     }
 }

@@ -16,6 +16,7 @@
 //! m = b Gamma^-1; the coefficients are transformed once, at compile time of
 //! the tableau below.
 
+use super::solver_params::TUNING;
 use super::stepping::{EmbeddedMethod, OdeSystem, StepControl, StepFailure};
 
 /// An ODE whose Jacobian (or an approximation of it) can be formed and whose
@@ -150,11 +151,11 @@ const T: Transformed = transformed();
 
 /// How long a Jacobian is kept by default: it is re-evaluated after this
 /// many accepted steps, after a rejected step, and after a restore.
-pub const JACOBIAN_MAX_AGE: u32 = 2;
+pub const JACOBIAN_MAX_AGE: u32 = TUNING.jacobian_max_age;
 
 /// Step-size increases below this factor are not taken, so the factored
 /// iteration matrix (which depends on h) can be reused.
-const KEEP_STEP_BELOW: f64 = 1.25;
+const KEEP_STEP_BELOW: f64 = TUNING.keep_step_below;
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Rosenbrock<Sys: StiffSystem> {
@@ -377,10 +378,12 @@ impl<Sys: StiffSystem> EmbeddedMethod<Sys> for Rosenbrock<Sys> {
 
     /// Embedded order 2: the error scales as h^3.
     fn step_factor(&self, err: f64) -> f64 {
+        let t = &TUNING;
         if err == 0.0 {
-            4.0
+            t.rosenbrock_factor_max
         } else {
-            (0.9 * err.powf(-1.0 / 3.0)).clamp(0.2, 4.0)
+            (t.rosenbrock_safety * err.powf(-1.0 / 3.0))
+                .clamp(t.rosenbrock_factor_min, t.rosenbrock_factor_max)
         }
     }
 

@@ -12,6 +12,15 @@ computed with FMPy. StopTime defaults to 0.5 s instead of the DefaultExperiment'
 time); it covers the start-up and most of the 0.3 s torque ramp.
 
 Usage: python tests/python/crosscheck.py [--stop-time 0.5] [--dir dist]
+       python tests/python/crosscheck.py --compare [--dir dist] [--result OTHER.csv]
+
+--compare checks existing files instead of writing them: it imports the FMU
+with the .opt settings and the _in.csv inputs (FMPy), or reads another tool's
+result (--result, a CSV with the same header as _ref.csv), and compares every
+column with _ref.csv. Allowed per signal: 4 e, e the reference's integration
+error estimated from a run at RelTol/10 (two solutions within e of the exact one
+differ by at most 2 e; one difference to a tighter run estimates e to within
+about a factor 2). Exit status 1 if any signal is further off.
 """
 import argparse
 import pathlib
@@ -52,11 +61,45 @@ def read_input_csv(path):
     return np.genfromtxt(path, delimiter=",", names=True, deletechars="", dtype=None)
 
 
+def compare(args):
+    fmu = args.dir / f"{MODEL}.fmu"
+    opt = read_opt(args.dir / f"{MODEL}_ref.opt")
+    ref = np.genfromtxt(args.dir / f"{MODEL}_ref.csv", delimiter=",", names=True, deletechars="")
+    names = list(ref.dtype.names[1:])
+    kw = dict(start_time=opt["StartTime"], stop_time=opt["StopTime"],
+              output_interval=opt["StepSize"], output=names,
+              input=read_input_csv(args.dir / f"{MODEL}_in.csv"))
+    if args.result:
+        out = np.genfromtxt(args.result, delimiter=",", names=True, deletechars="")
+        who = str(args.result)
+    else:
+        out = simulate_fmu(str(fmu), relative_tolerance=opt["RelTol"], **kw)
+        who = "FMPy import of the .opt and _in.csv"
+    tight = simulate_fmu(str(fmu), relative_tolerance=opt["RelTol"] / 10, **kw)
+    if len(out) != len(ref) or np.max(np.abs(out["time"] - ref["time"])) > 1e-9:
+        raise SystemExit(f"{who}: time points differ from {MODEL}_ref.csv")
+    bad = 0
+    print(f"{who} against {MODEL}_ref.csv (allowed: 4 x the reference's integration error)")
+    for n in names:
+        dev = float(np.max(np.abs(out[n] - ref[n])))
+        bound = 4 * float(np.max(np.abs(ref[n] - tight[n])))
+        ok = dev <= bound
+        bad += not ok
+        print(f"  {n:22s} max difference {dev:10.3g}  allowed {bound:10.3g}  {'ok' if ok else 'FAIL'}")
+    if bad:
+        raise SystemExit(f"{bad} signals differ from the reference")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--stop-time", type=float, default=0.5)
     ap.add_argument("--dir", type=pathlib.Path, default=ROOT / "dist")
+    ap.add_argument("--compare", action="store_true",
+                    help="compare an import (or --result) with the files instead of writing them")
+    ap.add_argument("--result", type=pathlib.Path, default=None)
     args = ap.parse_args()
+    if args.compare:
+        return compare(args)
     fmu = args.dir / f"{MODEL}.fmu"
     md = read_model_description(str(fmu))
     de = md.defaultExperiment

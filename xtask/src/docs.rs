@@ -1,6 +1,15 @@
-//! `documentation/index.html` of the FMU: the variables of the model
-//! description as tables, followed by `docs/model.md` (equations, the
-//! paper's cases, verification) rendered from a small Markdown subset.
+//! `documentation/` of the FMU: `index.html`, the user manual
+//! `docs/fmu-manual.md` rendered with pulldown-cmark (CommonMark with tables),
+//! its `<!-- fmu:... -->` placeholders replaced by what the model description
+//! holds (version and licence, a drawing of the default drive with pulley,
+//! span and body numbering, the parameter, input and output tables), and the
+//! images the manual shows, copied from `docs/`.
+//!
+//! The build fails on a placeholder it does not know, a link or image that
+//! points to a file the FMU does not contain, or a comment left in the page.
+
+use std::f64::consts::PI;
+use std::path::Path;
 
 use crate::Result;
 
@@ -30,6 +39,9 @@ struct Variable {
 #[derive(Default)]
 struct ModelInfo {
     description: String,
+    version: String,
+    license: String,
+    fmi_version: String,
     /// DefaultExperiment attributes in document order.
     default_experiment: Vec<(String, String)>,
     variables: Vec<Variable>,
@@ -87,7 +99,12 @@ fn parse_model_description(xml: &str) -> Result<ModelInfo> {
         };
         let a = attrs(e)?;
         match e.name().as_ref() {
-            b"fmiModelDescription" => info.description = get(&a, "description"),
+            b"fmiModelDescription" => {
+                info.description = get(&a, "description");
+                info.version = get(&a, "version");
+                info.license = get(&a, "license");
+                info.fmi_version = get(&a, "fmiVersion");
+            }
             b"DefaultExperiment" => info.default_experiment = a,
             b"SimpleType" if !empty => simple_type = Some(get(&a, "name")),
             b"ScalarVariable" => {
@@ -124,133 +141,6 @@ fn parse_model_description(xml: &str) -> Result<ModelInfo> {
     Ok(info)
 }
 
-/// `code` and **bold** spans of one line of Markdown, HTML-escaped.
-fn inline_markdown(text: &str) -> String {
-    let mut out = String::new();
-    for (i, piece) in text.split('`').enumerate() {
-        if i % 2 == 1 {
-            out.push_str(&format!("<code>{}</code>", escape_html(piece)));
-        } else {
-            for (j, part) in escape_html(piece).split("**").enumerate() {
-                if j % 2 == 1 {
-                    out.push_str(&format!("<b>{part}</b>"));
-                } else {
-                    out.push_str(part);
-                }
-            }
-        }
-    }
-    out
-}
-
-/// A deliberately small Markdown subset (headings, paragraphs, bullet
-/// lists, pipe tables, code fences) rendered to HTML; anything else comes
-/// out as escaped paragraph text.
-fn markdown_to_html(md: &str) -> String {
-    #[derive(PartialEq)]
-    enum Block {
-        None,
-        Para,
-        List,
-        Table,
-        Code,
-    }
-    /// The open block, and the text of the paragraph or list item being
-    /// collected (inline markup may span lines).
-    struct Writer {
-        out: String,
-        block: Block,
-        text: String,
-    }
-    impl Writer {
-        fn flush_text(&mut self) {
-            self.out.push_str(&inline_markdown(self.text.trim()));
-            self.text.clear();
-        }
-        fn close(&mut self) {
-            self.flush_text();
-            self.out.push_str(match self.block {
-                Block::None => "",
-                Block::Para => "</p>\n",
-                Block::List => "</li></ul>\n",
-                Block::Table => "</table>\n",
-                Block::Code => "</pre>\n",
-            });
-            self.block = Block::None;
-        }
-        fn open(&mut self, block: Block, html: &str) {
-            self.close();
-            self.out.push_str(html);
-            self.block = block;
-        }
-    }
-    let mut w = Writer {
-        out: String::new(),
-        block: Block::None,
-        text: String::new(),
-    };
-    for line in md.lines() {
-        let trimmed = line.trim();
-        if w.block == Block::Code {
-            if trimmed.starts_with("```") {
-                w.close();
-            } else {
-                w.out.push_str(&escape_html(line));
-                w.out.push('\n');
-            }
-        } else if trimmed.starts_with("```") {
-            w.open(Block::Code, "<pre>");
-        } else if trimmed.is_empty() {
-            w.close();
-        } else if let Some(level) = line
-            .find(|c| c != '#')
-            .filter(|&n| (1..=4).contains(&n) && line[n..].starts_with(' '))
-        {
-            w.close();
-            // The page has its own h1/h2: Markdown levels move one down.
-            let h = (level + 1).min(6);
-            let title = inline_markdown(line[level..].trim());
-            w.out.push_str(&format!("<h{h}>{title}</h{h}>\n"));
-        } else if trimmed.starts_with('|') {
-            if w.block != Block::Table {
-                w.open(Block::Table, "<table>\n");
-            }
-            let cells: Vec<&str> = trimmed.trim_matches('|').split('|').collect();
-            let separator = cells
-                .iter()
-                .all(|c| c.trim().chars().all(|ch| matches!(ch, '-' | ':')));
-            if !separator {
-                w.out.push_str("<tr>");
-                for c in cells {
-                    w.out
-                        .push_str(&format!("<td>{}</td>", inline_markdown(c.trim())));
-                }
-                w.out.push_str("</tr>\n");
-            }
-        } else if let Some(item) = trimmed
-            .strip_prefix("* ")
-            .or_else(|| trimmed.strip_prefix("- "))
-            .filter(|_| !line.starts_with("  ") || w.block != Block::List)
-        {
-            if w.block == Block::List {
-                w.flush_text();
-                w.out.push_str("</li>\n<li>");
-            } else {
-                w.open(Block::List, "<ul>\n<li>");
-            }
-            w.text.push_str(item);
-        } else {
-            if !matches!(w.block, Block::Para | Block::List) {
-                w.open(Block::Para, "<p>");
-            }
-            w.text.push('\n');
-            w.text.push_str(trimmed);
-        }
-    }
-    w.close();
-    w.out
-}
-
 /// An HTML table of the variables selected by `keep`.
 fn variable_table(info: &ModelInfo, keep: impl Fn(&Variable) -> bool, with_start: bool) -> String {
     let mut html = String::from("<table>\n<tr><th>name</th><th>type</th>");
@@ -267,9 +157,14 @@ fn variable_table(info: &ModelInfo, keep: impl Fn(&Variable) -> bool, with_start
         if with_start {
             html.push_str(&format!("<td>{}</td>", escape_html(&v.start)));
         }
+        let unit = if v.unit.is_empty() && v.ty == "Real" {
+            "see description".to_string()
+        } else {
+            v.unit.clone()
+        };
         html.push_str(&format!(
             "<td>{}</td><td>{}</td></tr>\n",
-            escape_html(&v.unit),
+            escape_html(&unit),
             escape_html(&v.description)
         ));
     }
@@ -277,10 +172,210 @@ fn variable_table(info: &ModelInfo, keep: impl Fn(&Variable) -> bool, with_start
     html
 }
 
-/// `documentation/index.html`: parameters, inputs and outputs from the model
-/// description, then docs/model.md (equations, verification, the paper's
-/// cases) if present.
-pub fn index_html(xml: &str, model_md: Option<&str>) -> Result<String> {
+/// Start value of a Real, Integer or Boolean variable as a number.
+fn start_of(info: &ModelInfo, name: &str) -> Result<f64> {
+    let v = info
+        .variables
+        .iter()
+        .find(|v| v.name == name)
+        .ok_or_else(|| format!("documentation: variable {name} missing"))?;
+    match v.start.as_str() {
+        "true" => Ok(1.0),
+        "false" => Ok(0.0),
+        s => s
+            .parse()
+            .map_err(|_| format!("documentation: start of {name} is not a number")),
+    }
+}
+
+/// SVG drawing of the default drive (the start values): pulleys with their
+/// numbers, the belt on the common tangents, span numbers, body 1, the axes
+/// and the direction the belt runs. Pulleys are taken as inside the loop
+/// (as in the default drive), listed counter-clockwise around it.
+fn drive_svg(info: &ModelInfo) -> Result<String> {
+    let np = start_of(info, "nPulleys")? as usize;
+    let mut p = Vec::new();
+    for j in 1..=np {
+        p.push((
+            start_of(info, &format!("pulley[{j}].x"))?,
+            start_of(info, &format!("pulley[{j}].y"))?,
+            start_of(info, &format!("pulley[{j}].radius"))?,
+        ));
+    }
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for &(x, y, r) in &p {
+        x0 = x0.min(x - r);
+        x1 = x1.max(x + r);
+        y0 = y0.min(y - r);
+        y1 = y1.max(y + r);
+    }
+    let w = 760.0;
+    let scale = ((w - 200.0) / (x1 - x0)).min(300.0 / (y1 - y0));
+    let h = scale * (y1 - y0) + 190.0;
+    let ox = 110.0 - scale * x0;
+    let oy = 60.0 + scale * y1;
+    let sx = |x: f64| ox + scale * x;
+    let sy = |y: f64| oy - scale * y;
+    let mut svg = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\" \
+         font-family=\"sans-serif\" font-size=\"13\" role=\"img\" aria-label=\"The default drive\">\n\
+         <defs><marker id=\"arr\" viewBox=\"0 0 10 10\" refX=\"9\" refY=\"5\" markerWidth=\"7\" \
+         markerHeight=\"7\" orient=\"auto-start-reverse\"><path d=\"M0,0 L10,5 L0,10 z\" fill=\"#333\"/></marker></defs>\n"
+    );
+    // Tangent points: the belt leaves pulley a and reaches pulley b on the
+    // right of the direction a -> b (a counter-clockwise loop).
+    let mut spans = Vec::new();
+    for k in 0..np {
+        let (a, b) = (p[k], p[(k + 1) % np]);
+        let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+        let d = dx.hypot(dy);
+        let (ux, uy) = (dx / d, dy / d);
+        let (nx, ny) = (uy, -ux);
+        let s = (a.2 - b.2) / d;
+        let c = (1.0 - s * s).sqrt();
+        let (mx, my) = (nx * c + ux * s, ny * c + uy * s);
+        spans.push((
+            (a.0 + a.2 * mx, a.1 + a.2 * my),
+            (b.0 + b.2 * mx, b.1 + b.2 * my),
+            (mx, my),
+        ));
+    }
+    for (j, &(x, y, r)) in p.iter().enumerate() {
+        svg.push_str(&format!(
+            "<circle cx=\"{:.1}\" cy=\"{:.1}\" r=\"{:.1}\" fill=\"#e8e8e8\" stroke=\"#777\"/>\
+             <text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"middle\">pulley {}</text>\n",
+            sx(x),
+            sy(y),
+            scale * r,
+            sx(x),
+            sy(y) + 4.0,
+            j + 1
+        ));
+        // the belt on the wrap: from the end of the previous span to the
+        // start of the next, counter-clockwise
+        let (from, to) = (spans[(j + np - 1) % np].1, spans[j].0);
+        let a0 = (from.1 - y).atan2(from.0 - x);
+        let mut a1 = (to.1 - y).atan2(to.0 - x);
+        while a1 <= a0 {
+            a1 += 2.0 * PI;
+        }
+        let large = if a1 - a0 > PI { 1 } else { 0 };
+        svg.push_str(&format!(
+            "<path d=\"M{:.1},{:.1} A{:.1},{:.1} 0 {large} 0 {:.1},{:.1}\" fill=\"none\" stroke=\"#2a5599\" stroke-width=\"4\"/>\n",
+            sx(from.0),
+            sy(from.1),
+            scale * r,
+            scale * r,
+            sx(to.0),
+            sy(to.1)
+        ));
+    }
+    // The belt runs clockwise when pulley 1's drive torque is negative.
+    let clockwise = start_of(info, "pulley[1].torqueRamp")? < 0.0
+        || start_of(info, "pulley[1].omegaRamp")? < 0.0;
+    for (k, &(a, b, (mx, my))) in spans.iter().enumerate() {
+        svg.push_str(&format!(
+            "<line x1=\"{:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" stroke=\"#2a5599\" stroke-width=\"4\"/>\n",
+            sx(a.0),
+            sy(a.1),
+            sx(b.0),
+            sy(b.1)
+        ));
+        let (cx, cy) = ((a.0 + b.0) / 2.0, (a.1 + b.1) / 2.0);
+        let (lx, ly) = (sx(cx) + 28.0 * mx, sy(cy) - 28.0 * my);
+        // travel arrow along the span, outside the loop
+        let (tx, ty) = if clockwise {
+            (a.0 - b.0, a.1 - b.1)
+        } else {
+            (b.0 - a.0, b.1 - a.1)
+        };
+        let t = tx.hypot(ty);
+        let (tx, ty) = (tx / t * 50.0, -ty / t * 50.0);
+        let (ax, ay) = (sx(cx) + 12.0 * mx, sy(cy) - 12.0 * my);
+        svg.push_str(&format!(
+            "<line x1=\"{:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" stroke=\"#333\" marker-end=\"url(#arr)\"/>\
+             <text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"middle\">span {}</text>\n",
+            ax - tx / 2.0,
+            ay - ty / 2.0,
+            ax + tx / 2.0,
+            ay + ty / 2.0,
+            lx + tx.signum() * 0.0,
+            ly + 5.0 + 6.0 * my.signum().abs() * if my < 0.0 { 1.0 } else { -0.3 },
+            k + 1
+        ));
+    }
+    // Body 1 starts span 1 at pulley 1.
+    let b1 = spans[0].0;
+    svg.push_str(&format!(
+        "<circle cx=\"{:.1}\" cy=\"{:.1}\" r=\"5\" fill=\"#c00\"/>\
+         <text x=\"{:.1}\" y=\"{:.1}\" fill=\"#c00\">body 1</text>\n",
+        sx(b1.0),
+        sy(b1.1),
+        sx(b1.0) - 70.0,
+        sy(b1.1) + 18.0
+    ));
+    // Axes at pulley 1's centre, and the sign convention.
+    let (ax, ay) = (30.0, h - 25.0);
+    svg.push_str(&format!(
+        "<line x1=\"{ax}\" y1=\"{ay}\" x2=\"{}\" y2=\"{ay}\" stroke=\"#333\" marker-end=\"url(#arr)\"/>\
+         <text x=\"{}\" y=\"{}\">x</text>\
+         <line x1=\"{ax}\" y1=\"{ay}\" x2=\"{ax}\" y2=\"{}\" stroke=\"#333\" marker-end=\"url(#arr)\"/>\
+         <text x=\"{}\" y=\"{}\">y</text>\
+         <path d=\"M{},{} A14,14 0 1 0 {},{}\" fill=\"none\" stroke=\"#333\" marker-end=\"url(#arr)\"/>\
+         <text x=\"{}\" y=\"{}\">+ angle, speed, torque: counter-clockwise</text>\
+         <text x=\"{}\" y=\"{}\">arrows on the spans: direction of belt travel ({})</text>\n",
+        ax + 40.0,
+        ax + 44.0,
+        ay + 4.0,
+        ay - 40.0,
+        ax - 4.0,
+        ay - 44.0,
+        ax + 80.0,
+        ay - 10.0,
+        ax + 70.0,
+        ay - 24.0,
+        ax + 100.0,
+        ay - 18.0,
+        ax + 100.0,
+        ay + 2.0,
+        if clockwise { "clockwise" } else { "counter-clockwise" }
+    ));
+    svg.push_str("</svg>\n");
+    Ok(svg)
+}
+
+/// Relative targets of the links and images of rendered HTML.
+fn relative_targets(html: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    for attr in ["href=\"", "src=\""] {
+        let mut rest = html;
+        while let Some(i) = rest.find(attr) {
+            rest = &rest[i + attr.len()..];
+            let end = rest.find('"').unwrap_or(rest.len());
+            let target = &rest[..end];
+            if !(target.starts_with("http://")
+                || target.starts_with("https://")
+                || target.starts_with('#'))
+            {
+                out.push(target.to_string());
+            }
+        }
+    }
+    out
+}
+
+/// Markdown (CommonMark with tables) to HTML.
+fn markdown_to_html(md: &str) -> String {
+    use pulldown_cmark::{Options, Parser};
+    let mut html = String::new();
+    pulldown_cmark::html::push_html(&mut html, Parser::new_ext(md, Options::ENABLE_TABLES));
+    html
+}
+
+/// The files of `documentation/`: `index.html` (the manual with the model
+/// description's data) and the images it shows, as (path in the FMU, bytes).
+/// `manual` is docs/fmu-manual.md; images are read relative to `docs`.
+pub fn documentation(xml: &str, manual: &str, docs: &Path) -> Result<Vec<(String, Vec<u8>)>> {
     let info = parse_model_description(xml)?;
     let experiment = info
         .default_experiment
@@ -288,25 +383,74 @@ pub fn index_html(xml: &str, model_md: Option<&str>) -> Result<String> {
         .map(|(k, v)| format!("{k} = {v}"))
         .collect::<Vec<_>>()
         .join(", ");
-    let parameters = variable_table(&info, |v| v.causality == "parameter", true);
-    let inputs = variable_table(&info, |v| v.causality == "input", true);
-    let outputs = variable_table(&info, |v| v.causality == "output", false);
-    let model_md = model_md
-        .map(markdown_to_html)
-        .unwrap_or_else(|| "<p>(docs/model.md was not present at packaging time.)</p>".into());
-    Ok(format!(
-        "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>BeltDrive</title>\n\
-         <style>body{{font-family:sans-serif;max-width:75em;margin:auto;padding:0 1em}}\
-         td,th{{border:1px solid #ccc;padding:2px 6px;vertical-align:top}}\
-         table{{border-collapse:collapse;margin:0.5em 0}}pre{{white-space:pre-wrap}}</style></head><body>\n\
-         <h1>BeltDrive</h1>\n<p>{}</p>\n\
-         <p>FMI 2.0 Co-Simulation. The default start values are the paper's section-4 5PK drive, so an importer \
-         that sets nothing simulates it. Default experiment: {}.</p>\n\
-         <h2>Parameters</h2>\n{parameters}<h2>Inputs</h2>\n{inputs}<h2>Outputs</h2>\n{outputs}\
-         <h2>Model notes (docs/model.md)</h2>\n{model_md}</body></html>\n",
-        escape_html(&info.description),
-        escape_html(&experiment),
-    ))
+    let about = format!(
+        "<table>\n<tr><th>version</th><td>{}</td></tr>\n<tr><th>licence</th><td>{}</td></tr>\n\
+         <tr><th>standard</th><td>FMI {} Co-Simulation, binaries for linux64</td></tr>\n\
+         <tr><th>default experiment</th><td>{}</td></tr>\n</table>\n",
+        escape_html(&info.version),
+        escape_html(&info.license),
+        escape_html(&info.fmi_version),
+        escape_html(&experiment)
+    );
+    let mut md = String::new();
+    for line in manual.lines() {
+        let t = line.trim();
+        let block = match t {
+            "<!-- fmu:about -->" => Some(about.clone()),
+            "<!-- fmu:drawing -->" => Some(drive_svg(&info)?),
+            "<!-- fmu:parameters -->" => {
+                Some(variable_table(&info, |v| v.causality == "parameter", true))
+            }
+            "<!-- fmu:inputs -->" => Some(variable_table(&info, |v| v.causality == "input", true)),
+            "<!-- fmu:outputs -->" => {
+                Some(variable_table(&info, |v| v.causality == "output", false))
+            }
+            _ if t.starts_with("<!-- fmu:") => {
+                return Err(format!("docs/fmu-manual.md: unknown placeholder {t}"))
+            }
+            _ => None,
+        };
+        match block {
+            // An HTML block ends at a blank line: keep the generated one whole.
+            Some(b) => md.push_str(&b.replace("\n\n", "\n")),
+            None => md.push_str(line),
+        }
+        md.push('\n');
+    }
+    // Comments in the manual's source are notes for its editors.
+    while let Some(i) = md.find("<!--") {
+        let end = md[i..]
+            .find("-->")
+            .ok_or("docs/fmu-manual.md: unterminated comment")?;
+        md.replace_range(i..i + end + 3, "");
+    }
+    let body = markdown_to_html(&md);
+    let mut files = Vec::new();
+    for target in relative_targets(&body) {
+        let path = docs.join(&target);
+        let bytes = std::fs::read(&path).map_err(|e| {
+            format!(
+                "docs/fmu-manual.md links to {target}, which the FMU cannot contain ({}: {e})",
+                path.display()
+            )
+        })?;
+        if !files.iter().any(|(n, _): &(String, Vec<u8>)| *n == target) {
+            files.push((target, bytes));
+        }
+    }
+    let html = format!(
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>BeltDrive</title>\n<style>\n\
+         body{{font-family:system-ui,sans-serif;max-width:60em;margin:auto;padding:0 1em 3em;line-height:1.45;color:#222}}\n\
+         td,th{{border:1px solid #ccc;padding:2px 6px;vertical-align:top;text-align:left}}\n\
+         table{{border-collapse:collapse;margin:0.5em 0;font-size:0.92em}}\n\
+         pre{{background:#f5f5f5;padding:0.6em;overflow-x:auto}}code{{font-size:0.92em}}\n\
+         img{{max-width:100%}}h1{{margin-top:0.6em}}\n</style></head><body>\n{body}</body></html>\n"
+    );
+    if html.contains("<!--") {
+        return Err("documentation/index.html would contain a comment".into());
+    }
+    files.insert(0, ("index.html".into(), html.into_bytes()));
+    Ok(files)
 }
 
 #[cfg(test)]
@@ -314,7 +458,7 @@ mod tests {
     use super::*;
 
     const XML: &str = r#"<?xml version="1.0" encoding="UTF-8"?>
-<fmiModelDescription fmiVersion="2.0" modelName="M" guid="{x}" description="A &amp; B">
+<fmiModelDescription fmiVersion="2.0" modelName="M" guid="{x}" description="A &amp; B" version="1.2" license="MIT">
   <TypeDefinitions>
     <SimpleType name="Force"><Real quantity="Force" unit="N"/></SimpleType>
   </TypeDefinitions>
@@ -336,6 +480,10 @@ mod tests {
     fn variables_with_units_resolved_through_declared_types() {
         let info = parse_model_description(XML).unwrap();
         assert_eq!(info.description, "A & B");
+        assert_eq!(
+            (info.version.as_str(), info.license.as_str()),
+            ("1.2", "MIT")
+        );
         let v: Vec<_> = info
             .variables
             .iter()
@@ -356,22 +504,27 @@ mod tests {
                 ("y", "Real", "", "m")
             ]
         );
-        let html = index_html(XML, None).unwrap();
-        assert!(html.contains("a &lt;force&gt;"));
-        assert!(html.contains("startTime = 0, stopTime = 2"));
     }
 
     #[test]
-    fn markdown_subset() {
-        let md = "# Title\n\nText with **bold\nacross** lines and `a<b`.\n\n\
-                  | a | b |\n|---|:-:|\n| 1 | 2 |\n\n* one\n  more\n* two\n\n```\nx < y\n```\n";
-        let html = markdown_to_html(md);
-        assert!(html.contains("<h2>Title</h2>"));
-        assert!(html.contains("<b>bold\nacross</b>"));
-        assert!(html.contains("<code>a&lt;b</code>"));
-        assert!(html.contains("<tr><td>1</td><td>2</td></tr>"));
-        assert!(!html.contains("---"));
-        assert!(html.contains("<li>one\nmore</li>\n<li>two</li></ul>"));
-        assert!(html.contains("<pre>x &lt; y\n</pre>"));
+    fn placeholders_comments_and_links() {
+        let dir = std::env::temp_dir().join(format!("beltdrive-docs-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("img")).unwrap();
+        std::fs::write(dir.join("img/a.png"), b"png").unwrap();
+        let manual = "# T\n\n<!-- a note -->\n\n<!-- fmu:about -->\n\n<!-- fmu:parameters -->\n\n\
+                      ![a](img/a.png) [web](https://example.org) [here](#t)\n";
+        let files = documentation(XML, manual, &dir).unwrap();
+        let names: Vec<_> = files.iter().map(|(n, _)| n.as_str()).collect();
+        assert_eq!(names, ["index.html", "img/a.png"]);
+        let html = String::from_utf8(files[0].1.clone()).unwrap();
+        assert!(html.contains("<h1>T</h1>"));
+        assert!(html.contains("a &lt;force&gt;"));
+        assert!(html.contains("<td>1.2</td>"));
+        assert!(html.contains("startTime = 0, stopTime = 2"));
+        assert!(!html.contains("<!--") && !html.contains("fmu:"));
+        // A dead link, an unknown placeholder: refused.
+        assert!(documentation(XML, "[x](missing.md)\n", &dir).is_err());
+        assert!(documentation(XML, "<!-- fmu:nothing -->\n", &dir).is_err());
+        std::fs::remove_dir_all(&dir).ok();
     }
 }

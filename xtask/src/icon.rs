@@ -3,10 +3,9 @@
 //! them, drawn from geometry here so every build yields the same bytes.
 //!
 //! The picture is rasterised with 4x4 supersampling per pixel and written as
-//! an 8-bit RGBA PNG (signature, IHDR, one zlib-compressed IDAT, IEND).
+//! an 8-bit RGBA PNG by the `png` crate.
 
 use std::f64::consts::PI;
-use std::io::Write;
 
 /// Edge length of the square icon in pixels.
 pub const SIZE: u32 = 256;
@@ -149,38 +148,17 @@ fn distance_to_segment(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
     (p.0 - a.0 - s * abx).hypot(p.1 - a.1 - s * aby)
 }
 
-/// One PNG chunk: length, type, data, CRC-32 of type and data.
-fn chunk(out: &mut Vec<u8>, kind: &[u8; 4], data: &[u8]) {
-    out.extend_from_slice(&(data.len() as u32).to_be_bytes());
-    out.extend_from_slice(kind);
-    out.extend_from_slice(data);
-    let mut crc = crc32fast::Hasher::new();
-    crc.update(kind);
-    crc.update(data);
-    out.extend_from_slice(&crc.finalize().to_be_bytes());
-}
-
 /// PNG file of `rgba` (`width * height * 4` bytes, rows top to bottom).
 fn png(width: u32, height: u32, rgba: &[u8]) -> Vec<u8> {
     assert_eq!(rgba.len(), (width * height * 4) as usize);
-    let mut out = b"\x89PNG\r\n\x1a\n".to_vec();
-    let mut ihdr = Vec::with_capacity(13);
-    ihdr.extend_from_slice(&width.to_be_bytes());
-    ihdr.extend_from_slice(&height.to_be_bytes());
-    // Bit depth 8, colour type 6 (RGBA), deflate, adaptive filtering, no interlace.
-    ihdr.extend_from_slice(&[8, 6, 0, 0, 0]);
-    chunk(&mut out, b"IHDR", &ihdr);
-    // Every scanline with filter type 0 (none).
-    let row = (width * 4) as usize;
-    let mut raw = Vec::with_capacity(rgba.len() + height as usize);
-    for line in rgba.chunks(row) {
-        raw.push(0);
-        raw.extend_from_slice(line);
-    }
-    let mut z = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::best());
-    z.write_all(&raw).expect("writing to memory");
-    chunk(&mut out, b"IDAT", &z.finish().expect("writing to memory"));
-    chunk(&mut out, b"IEND", &[]);
+    let mut out = Vec::new();
+    let mut enc = png::Encoder::new(&mut out, width, height);
+    enc.set_color(png::ColorType::Rgba);
+    enc.set_depth(png::BitDepth::Eight);
+    enc.set_compression(png::Compression::High);
+    let mut writer = enc.write_header().expect("writing to memory");
+    writer.write_image_data(rgba).expect("writing to memory");
+    writer.finish().expect("writing to memory");
     out
 }
 
@@ -192,49 +170,24 @@ pub fn model_png() -> Vec<u8> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::io::Read;
-
-    /// The chunks of a PNG file, each checked against its CRC.
-    fn chunks(png: &[u8]) -> Vec<([u8; 4], Vec<u8>)> {
-        assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
-        let mut out = Vec::new();
-        let mut i = 8;
-        while i < png.len() {
-            let len = u32::from_be_bytes(png[i..i + 4].try_into().unwrap()) as usize;
-            let kind: [u8; 4] = png[i + 4..i + 8].try_into().unwrap();
-            let data = png[i + 8..i + 8 + len].to_vec();
-            let crc = u32::from_be_bytes(png[i + 8 + len..i + 12 + len].try_into().unwrap());
-            let mut h = crc32fast::Hasher::new();
-            h.update(&kind);
-            h.update(&data);
-            assert_eq!(
-                h.finalize(),
-                crc,
-                "CRC of {}",
-                String::from_utf8_lossy(&kind)
-            );
-            out.push((kind, data));
-            i += 12 + len;
-        }
-        out
-    }
 
     #[test]
     fn png_structure_and_pixels() {
         let png = model_png();
         assert_eq!(png, model_png(), "reproducible");
-        let c = chunks(&png);
-        let kinds: Vec<&[u8; 4]> = c.iter().map(|(k, _)| k).collect();
-        assert_eq!(kinds, [b"IHDR", b"IDAT", b"IEND"]);
-        assert_eq!(&c[0].1[..8], &[0, 0, 1, 0, 0, 0, 1, 0], "256 x 256");
-        let mut raw = Vec::new();
-        flate2::read::ZlibDecoder::new(&c[1].1[..])
-            .read_to_end(&mut raw)
-            .unwrap();
-        let row = 1 + 4 * SIZE as usize;
-        assert_eq!(raw.len(), row * SIZE as usize);
+        let mut reader = png::Decoder::new(std::io::Cursor::new(&png))
+            .read_info()
+            .expect("a valid PNG");
+        let mut raw = vec![0; reader.output_buffer_size().expect("size")];
+        let info = reader.next_frame(&mut raw).expect("one frame");
+        assert_eq!((info.width, info.height), (SIZE, SIZE));
+        assert_eq!(
+            (info.color_type, info.bit_depth),
+            (png::ColorType::Rgba, png::BitDepth::Eight)
+        );
+        let row = 4 * SIZE as usize;
         let pixel = |x: usize, y: usize| -> [u8; 4] {
-            raw[y * row + 1 + 4 * x..y * row + 5 + 4 * x]
+            raw[y * row + 4 * x..y * row + 4 + 4 * x]
                 .try_into()
                 .unwrap()
         };

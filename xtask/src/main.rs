@@ -3,8 +3,9 @@
 //! * `fmu`  - release build, then `dist/BeltDrive.fmu` (model description with
 //!   its GUID, the Linux binary, generated documentation, model icon).
 //! * `venv` - `.venv` with the Python test harness (FMPy, pytest, ...).
-//! * `run`  - the main job: build the FMU and simulate the paper's drive with
-//!   it through FMPy (headline figures + `dist/default_drive.png`).
+//! * `run [-- --fast --stop-time T]` - the main job: build the FMU and
+//!   simulate the paper's drive with it through FMPy (report,
+//!   `dist/default_drive.png`, the animation `dist/default_drive.html`).
 //! * `crosscheck` - reference results in the FMI cross-check layout beside
 //!   the FMU: `dist/BeltDrive_{ref.csv,ref.opt,in.csv}` (FMPy).
 //! * `fmi-sim` - install the pinned rust-fmi `fmi-sim` into `.tools/`.
@@ -20,6 +21,9 @@
 //! * `bench [--quick] [--core N] [--no-docs]` - the benchmark suites
 //!   (`benches/belt.rs`, `benches/stiff.rs`); rewrites the generated part of
 //!   `docs/benchmarks.md` (see `bench.rs`).
+//! * `modes -- [--ssv FILE] [--set NAME=VALUE ...] [--speeds FROM:TO:N] [--at TIME]`:
+//!   the modal analysis (`examples/modes.rs`), `dist/modes.csv` and, with
+//!   `--speeds`, the Campbell diagram `dist/campbell.png` (docs/modes.md).
 
 mod bench;
 mod docs;
@@ -104,11 +108,11 @@ fn fmu() -> Result<PathBuf> {
     let xml = &md.xml;
     add("modelDescription.xml", xml.as_bytes())?;
     add(&binary, &so)?;
-    let model_md = fs::read_to_string(root.join("docs/model.md")).ok();
-    add(
-        "documentation/index.html",
-        docs::index_html(xml, model_md.as_deref())?.as_bytes(),
-    )?;
+    let manual = fs::read_to_string(root.join("docs/fmu-manual.md"))
+        .map_err(|e| format!("reading docs/fmu-manual.md: {e}"))?;
+    for (name, bytes) in docs::documentation(xml, &manual, &root.join("docs"))? {
+        add(&format!("documentation/{name}"), &bytes)?;
+    }
     add("model.png", &icon::model_png())?;
     zip.finish().map_err(|e| e.to_string())?;
     println!("{}", path.display());
@@ -134,9 +138,17 @@ fn venv() -> Result<()> {
             "create .venv",
         )?;
     }
+    let n = text
+        .lines()
+        .filter(|l| !l.trim().is_empty() && !l.trim_start().starts_with('#'))
+        .count();
+    eprintln!(
+        "xtask: installing the Python harness into .venv: {n} pinned packages \
+         (tests/python/requirements.txt; first run only, 1-3 min depending on the network)"
+    );
     run(
         Command::new(venv_python())
-            .args(["-m", "pip", "install", "--quiet", "-r"])
+            .args(["-m", "pip", "install", "--progress-bar", "off", "-r"])
             .arg(&reqs),
         "install the Python harness",
     )?;
@@ -147,10 +159,28 @@ fn main_job(args: &[String]) -> Result<()> {
     // `cargo xtask run -- --stop-time 0.5`: drop the separator.
     let args = args.strip_prefix(&["--".to_string()]).unwrap_or(args);
     fmu()?;
+    // The animation's belt shape: the physics core with the FMU's defaults
+    // (the FMU has no body position outputs), see examples/belt_shape.rs.
+    run(
+        cargo().args([
+            "build",
+            "--release",
+            "--example",
+            "belt_shape",
+            "-p",
+            "belt_drive",
+        ]),
+        "release build of the belt-shape example (animation)",
+    )?;
     venv()?;
+    let target = std::env::var("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|_| root().join("target"));
     run(
         Command::new(venv_python())
             .arg("tests/python/run_default.py")
+            .arg("--shape-exe")
+            .arg(target.join("release/examples/belt_shape"))
             .args(args),
         "simulate the default drive",
     )
@@ -197,7 +227,17 @@ fn sweep(args: &[String]) -> Result<()> {
     )
 }
 
-fn test() -> Result<()> {
+/// `cargo xtask test [--fmi-sim]`: everything CI runs. The Rust tests build
+/// with the `ci` profile (release optimisation without fat LTO, see
+/// Cargo.toml); the FMU the Python tests load is the packaged release build.
+/// rust-fmi's fmi-sim builds from source (about 5 min of CPU time), so it runs
+/// only with `--fmi-sim` or when `.tools/` already holds it; the wheel-based
+/// importers (libcosim, Ecos, fmu-manipulation-toolbox) always run.
+fn test(args: &[String]) -> Result<()> {
+    let with_fmi_sim = args.iter().any(|a| a == "--fmi-sim");
+    if let Some(bad) = args.iter().find(|a| *a != "--fmi-sim" && *a != "--") {
+        return Err(format!("test: unknown option {bad} (known: --fmi-sim)"));
+    }
     run(
         cargo().args(["fmt", "--all", "--", "--check"]),
         "cargo fmt --check",
@@ -207,6 +247,8 @@ fn test() -> Result<()> {
             "clippy",
             "--workspace",
             "--all-targets",
+            "--features",
+            "belt_drive/modes",
             "--",
             "-D",
             "warnings",
@@ -214,21 +256,88 @@ fn test() -> Result<()> {
         "cargo clippy",
     )?;
     run(
-        cargo().args(["test", "--workspace", "--release"]),
-        "cargo test",
+        cargo().args(["test", "--workspace", "--profile", "ci", "--features", "belt_drive/modes"]),
+        "cargo test (profile ci)",
     )?;
     if have_valgrind() {
-        valgrind()?;
+        valgrind_with("ci")?;
     } else {
         eprintln!("xtask: valgrind not found: skipping the memory check (cargo xtask valgrind)");
     }
     crosscheck(&[])?;
-    let fmi_sim = tools::fmi_sim()?;
+    tools::ensure_tbb()?;
+    tools::ensure_chromium()?;
+    let mut pytest = Command::new(venv_python());
+    pytest.args([
+        "-m",
+        "pytest",
+        "-q",
+        "-p",
+        "no:cacheprovider",
+        "tests/python",
+    ]);
+    let fmi_sim = if with_fmi_sim {
+        Some(tools::fmi_sim()?)
+    } else {
+        tools::fmi_sim_installed()
+    };
+    match fmi_sim {
+        Some(exe) => {
+            pytest.env("FMI_SIM", exe);
+        }
+        None => eprintln!(
+            "xtask: fmi-sim not installed: its importer tests are skipped \
+             (`cargo xtask test --fmi-sim` builds it into .tools/, about 5 min)"
+        ),
+    }
+    run(
+        &mut pytest,
+        "pytest (the packaged FMU through FMPy and the other importers)",
+    )
+}
+
+/// `cargo xtask modes -- [--ssv FILE] [--set NAME=VALUE ...] [--speeds FROM:TO:N]
+/// [--at TIME] [--fmax HZ] [--out FILE]`: the modal analysis
+/// (`examples/modes.rs`) writes the CSV (default `dist/modes.csv`); with
+/// `--speeds` the Campbell diagram is drawn beside it (`campbell.png`, by
+/// `examples/campbell.py` with matplotlib from `.venv`).
+fn modes(args: &[String]) -> Result<()> {
+    let args = args.strip_prefix(&["--".to_string()]).unwrap_or(args);
+    run(
+        cargo()
+            .args([
+                "run",
+                "--release",
+                "--features",
+                "modes",
+                "--example",
+                "modes",
+                "--",
+            ])
+            .args(args),
+        "modal analysis",
+    )?;
+    let csv = args
+        .iter()
+        .position(|a| a == "--out")
+        .and_then(|i| args.get(i + 1))
+        .map_or_else(|| PathBuf::from("dist/modes.csv"), PathBuf::from);
+    if !args.iter().any(|a| a == "--speeds") {
+        eprintln!("xtask: no --speeds: one linearisation, no Campbell diagram");
+        return Ok(());
+    }
+    let png = if csv.file_name().is_some_and(|n| n == "modes.csv") {
+        csv.with_file_name("campbell.png")
+    } else {
+        csv.with_extension("png")
+    };
+    venv()?;
     run(
         Command::new(venv_python())
-            .args(["-m", "pytest", "-q", "tests/python"])
-            .env("FMI_SIM", fmi_sim),
-        "pytest (FMU through FMPy and fmi-sim)",
+            .arg("examples/campbell.py")
+            .arg(&csv)
+            .arg(&png),
+        "Campbell diagram",
     )
 }
 
@@ -246,17 +355,23 @@ fn have_valgrind() -> bool {
 /// ("possibly lost" and "still reachable" blocks of the Rust runtime and of
 /// dlopen are not errors).
 fn valgrind() -> Result<()> {
+    valgrind_with("release")
+}
+
+/// [`valgrind`] on the build of the given cargo profile.
+fn valgrind_with(profile: &str) -> Result<()> {
     run(
         cargo().args([
             "build",
-            "--release",
+            "--profile",
+            profile,
             "--lib",
             "--example",
             "valgrind_driver",
             "-p",
             "belt_drive",
         ]),
-        "release build of the library and the valgrind driver",
+        "build of the library and the valgrind driver",
     )?;
     let target = std::env::var("CARGO_TARGET_DIR")
         .map(PathBuf::from)
@@ -269,7 +384,7 @@ fn valgrind() -> Result<()> {
                 "--errors-for-leak-kinds=definite,indirect",
                 "--error-exitcode=1",
             ])
-            .arg(target.join("release/examples/valgrind_driver")),
+            .arg(target.join(profile).join("examples/valgrind_driver")),
         "valgrind memcheck",
     )
 }
@@ -283,12 +398,13 @@ fn main() {
         Some("validate") => validate(&args[1..]),
         Some("crosscheck") => crosscheck(&args[1..]),
         Some("fmi-sim") => tools::fmi_sim().map(|p| println!("{}", p.display())),
-        Some("test") => test(),
+        Some("test") => test(&args[1..]),
         Some("valgrind") => valgrind(),
         Some("bench") => bench::bench(&args[1..]),
+        Some("modes") => modes(&args[1..]),
         Some("sweep") => sweep(&args[1..]),
         _ => Err(
-            "usage: cargo xtask <fmu|venv|run|validate|crosscheck|fmi-sim|test|valgrind|bench|sweep>"
+            "usage: cargo xtask <fmu|venv|run|validate|crosscheck|fmi-sim|test|valgrind|bench|sweep|modes>"
                 .into(),
         ),
     };

@@ -6,7 +6,11 @@
 //!   .tools/fmi-sim-<version>`; an existing install is reused, so a CI cache of
 //!   `.tools/` skips the build. Its build runs bindgen, which needs libclang:
 //!   on Debian the package `libclang-dev` is installed with apt-get (through
-//!   sudo only when not running as root).
+//!   sudo only when not running as root). `cargo xtask test` builds it only
+//!   when asked (`--fmi-sim`) and otherwise uses an existing install.
+//! * Ecos (`ecospy`, a wheel from the Python registry pinned in
+//!   tests/python/requirements.txt) links the system's oneTBB: Debian's
+//!   `libtbb12` is installed with apt-get when missing.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -15,6 +19,12 @@ use crate::{cargo, root, run, Result};
 
 /// The fmi-sim release the importer comparison was verified with.
 pub const FMI_SIM_VERSION: &str = "0.7.0";
+
+/// Path of an installed `fmi-sim` executable of the pinned version, if any.
+pub fn fmi_sim_installed() -> Option<PathBuf> {
+    let exe = root().join(format!(".tools/fmi-sim-{FMI_SIM_VERSION}/bin/fmi-sim"));
+    exe.exists().then_some(exe)
+}
 
 /// Path of the `fmi-sim` executable, installing it first if missing.
 pub fn fmi_sim() -> Result<PathBuf> {
@@ -112,17 +122,51 @@ fn ensure_libclang() -> Result<()> {
     if libclang_found() {
         return Ok(());
     }
-    let install = [
-        "install",
-        "-y",
-        "-q",
-        "--no-install-recommends",
-        "libclang-dev",
-    ];
-    if run(&mut apt_get(&install), "apt-get install libclang-dev").is_err() {
-        // A fresh machine may have empty package lists.
+    apt_install("libclang-dev")
+}
+
+/// Whether the dynamic linker finds oneTBB's `libtbb.so.12` (Ecos needs it).
+fn tbb_found() -> bool {
+    Command::new("ldconfig")
+        .arg("-p")
+        .output()
+        .is_ok_and(|o| String::from_utf8_lossy(&o.stdout).contains("libtbb.so.12"))
+        || ["/usr/lib/x86_64-linux-gnu", "/usr/lib64", "/usr/lib"]
+            .iter()
+            .any(|d| Path::new(d).join("libtbb.so.12").exists())
+}
+
+/// Debian's `libtbb12` for the Ecos importer (ecospy's library links it).
+pub fn ensure_tbb() -> Result<()> {
+    if tbb_found() {
+        return Ok(());
+    }
+    apt_install("libtbb12")
+}
+
+/// Debian's `chromium` for the browser tests of the FMU manual and the
+/// animation (tests/python/test_browser.py), unless `BELTDRIVE_CHROMIUM`
+/// names a browser or `chromium` is on the PATH.
+pub fn ensure_chromium() -> Result<()> {
+    if std::env::var_os("BELTDRIVE_CHROMIUM").is_some()
+        || Command::new("chromium")
+            .arg("--version")
+            .output()
+            .is_ok_and(|o| o.status.success())
+    {
+        return Ok(());
+    }
+    apt_install("chromium")
+}
+
+/// `apt-get install` one Debian package, updating the package lists first if
+/// the install fails (a fresh machine may have empty lists).
+fn apt_install(package: &str) -> Result<()> {
+    let install = ["install", "-y", "-q", "--no-install-recommends", package];
+    let what = format!("apt-get install {package}");
+    if run(&mut apt_get(&install), &what).is_err() {
         run(&mut apt_get(&["update", "-q"]), "apt-get update")?;
-        run(&mut apt_get(&install), "apt-get install libclang-dev")?;
+        run(&mut apt_get(&install), &what)?;
     }
     Ok(())
 }

@@ -1,0 +1,70 @@
+"""Campbell diagram from the modal analysis' CSV (`cargo xtask modes`, docs/modes.md).
+
+    python examples/campbell.py dist/modes.csv dist/campbell.png [--title TEXT]
+
+Natural frequencies against crank speed, engine orders 1-4 drawn; the discrete
+bodies' artificial modes (descriptions starting with "belt pitching") are left
+out and counted in a note.
+"""
+
+import argparse
+import csv
+import math
+from collections import defaultdict
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("csv")
+    ap.add_argument("png")
+    ap.add_argument("--title", default="Campbell diagram")
+    ap.add_argument("--fmax", type=float, default=None,
+                    help="top of the frequency axis [Hz]; default: twice the 4th engine order "
+                         "at the top speed (all modes stay in the CSV)")
+    a = ap.parse_args()
+    rows = list(csv.DictReader(open(a.csv)))
+    groups = defaultdict(lambda: ([], []))
+    left_out = 0
+    speeds = sorted({float(r["speed_rad_s"]) for r in rows})
+    for r in rows:
+        d = r["description"]
+        if d.startswith("belt pitching"):
+            left_out += 1
+            continue
+        # group by kind (span k transverse, pulley j rotation, ...)
+        xs, ys = groups[d]
+        xs.append(float(r["speed_rad_s"]) * 60 / (2 * math.pi))
+        ys.append(float(r["frequency_hz"]))
+    fig, ax = plt.subplots(figsize=(9, 6))
+    markers = "o^sDv<>pPX*h"
+    for k, (d, (xs, ys)) in enumerate(sorted(groups.items())):
+        ax.plot(xs, ys, markers[k % len(markers)], ms=5, label=d)
+    rpm_max = max(speeds) * 60 / (2 * math.pi) if speeds else 1.0
+    fmax = a.fmax or max(2 * 4 * rpm_max / 60, 100.0)
+    for order in (1, 2, 3, 4):
+        ax.plot([0, rpm_max], [0, order * rpm_max / 60], "k--", lw=0.8)
+        ax.annotate(f"{order}x", (rpm_max, order * rpm_max / 60), fontsize=8,
+                    xytext=(3, 0), textcoords="offset points")
+    ax.set_xlabel("crank speed [rpm]")
+    ax.set_ylabel("natural frequency [Hz]")
+    ax.set_ylim(0, fmax * 1.05)
+    ax.set_xlim(-rpm_max * 0.03, rpm_max * 1.08)
+    ax.set_title(a.title)
+    ax.text(0.01, 0.99,
+            f"{left_out} modes of the discrete bodies (belt pitching, contact, creep, "
+            f"rigid rotation on the polygon) left out",
+            transform=ax.transAxes, va="top", fontsize=8)
+    ax.legend(fontsize=7, ncol=2, loc="upper left", bbox_to_anchor=(0.0, 0.95))
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(a.png, dpi=110)
+    print(f"wrote {a.png} ({left_out} artificial modes left out)")
+
+
+if __name__ == "__main__":
+    main()

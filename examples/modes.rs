@@ -1,0 +1,170 @@
+//! Modal analysis of a drive (`cargo xtask modes -- ...`, docs/modes.md):
+//! natural frequencies, damping ratios and mode descriptions about the
+//! mounted static state, or about the steady running state at each crank
+//! (pulley 1) speed, written to `dist/modes.csv`.
+//!
+//! ```text
+//! cargo run --release --features modes --example modes -- [--ssv FILE] [--set NAME=VALUE ...]
+//!     [--speeds FROM:TO:N] [--at TIME] [--fmax HZ] [--out FILE]
+//! ```
+
+use belt_drive::modes::{adapter, analyse, params, Modes, Options};
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+struct Args {
+    ssv: Option<PathBuf>,
+    sets: Vec<String>,
+    speeds: Option<(f64, f64, usize)>,
+    at: Option<f64>,
+    fmax: f64,
+    out: PathBuf,
+}
+
+const USAGE: &str = "usage: modes [--ssv FILE] [--set NAME=VALUE ...] [--speeds FROM:TO:N] \
+                     [--at TIME] [--fmax HZ] [--out FILE]";
+
+fn parse() -> Result<Args, String> {
+    let mut a = Args {
+        ssv: None,
+        sets: Vec::new(),
+        speeds: None,
+        at: None,
+        fmax: 2000.0,
+        out: PathBuf::from("dist/modes.csv"),
+    };
+    let mut it = std::env::args().skip(1);
+    while let Some(k) = it.next() {
+        let mut val = || {
+            it.next()
+                .ok_or_else(|| format!("{k} needs a value; {USAGE}"))
+        };
+        let num = |s: String, what: &str| -> Result<f64, String> {
+            s.parse().map_err(|e| format!("{what} {s}: {e}"))
+        };
+        match k.as_str() {
+            "--ssv" => a.ssv = Some(PathBuf::from(val()?)),
+            "--set" => a.sets.push(val()?),
+            "--at" => a.at = Some(num(val()?, "--at")?),
+            "--fmax" => a.fmax = num(val()?, "--fmax")?,
+            "--out" => a.out = PathBuf::from(val()?),
+            "--speeds" => {
+                let s = val()?;
+                let p: Vec<&str> = s.split(':').collect();
+                if p.len() != 3 {
+                    return Err(format!("--speeds {s}: expected FROM:TO:N (rad/s)"));
+                }
+                let n: usize = p[2].parse().map_err(|e| format!("--speeds {s}: N: {e}"))?;
+                let (from, to) = (num(p[0].into(), "--speeds")?, num(p[1].into(), "--speeds")?);
+                if n == 0 || from < 0.0 || to < from {
+                    return Err(format!(
+                        "--speeds {s}: need 0 <= FROM <= TO (crank speed magnitudes, rad/s) and N >= 1"
+                    ));
+                }
+                a.speeds = Some((from, to, n));
+            }
+            "-h" | "--help" => return Err(USAGE.into()),
+            _ => return Err(format!("unknown argument {k}; {USAGE}")),
+        }
+    }
+    Ok(a)
+}
+
+fn run() -> Result<(), String> {
+    let a = parse()?;
+    let base = params::drive_params(a.ssv.as_deref(), &a.sets)?;
+    let mut rows: Vec<(f64, Modes)> = Vec::new();
+    let opts = Options {
+        max_frequency_hz: a.fmax,
+        ..Options::default()
+    };
+    let speeds: Vec<Option<f64>> = match a.speeds {
+        None => vec![None],
+        Some((from, to, n)) => (0..n)
+            .map(|k| {
+                Some(if n == 1 {
+                    from
+                } else {
+                    from + (to - from) * k as f64 / (n - 1) as f64
+                })
+            })
+            .collect(),
+    };
+    for speed in speeds {
+        let mut p = base.clone();
+        let mut at = a.at.unwrap_or(0.0);
+        let mut o = opts;
+        if let Some(w) = speed {
+            let crank = &mut p.pulleys[0];
+            if !crank.speed_driven {
+                return Err(
+                    "--speeds sets the crank speed, pulley 1's: it must be speed-driven \
+                            (--set pulley[1].speedDriven=true)"
+                        .into(),
+                );
+            }
+            // keep the set's direction of rotation
+            let sign = if crank.omega_ramp < 0.0 { -1.0 } else { 1.0 };
+            crank.omega_ramp = sign * w;
+            at = a.at.unwrap_or(crank.ramp_time + 0.3);
+            o.transport = w > 0.0;
+        }
+        let t0 = Instant::now();
+        let mut drive = adapter::build(&p)?;
+        adapter::run_to(&mut drive, at)?;
+        let t_run = t0.elapsed().as_secs_f64();
+        let lin = adapter::linearise(&drive);
+        let t1 = Instant::now();
+        let modes = analyse(&lin, &o)?;
+        let w = speed.unwrap_or(0.0);
+        eprintln!(
+            "speed {w:.1} rad/s at t = {at} s: {} modes up to {} Hz, {} above; {} zero modes, \
+             {} overdamped, {} states split off, eigenproblem {}x{} in {:.2} s (run {:.1} s)",
+            modes.modes.len(),
+            a.fmax,
+            modes.above_limit,
+            modes.zero_modes,
+            modes.overdamped,
+            modes.removed_states,
+            modes.reduced_dim,
+            modes.reduced_dim,
+            t1.elapsed().as_secs_f64(),
+            t_run
+        );
+        rows.push((w, modes));
+    }
+    if let Some(dir) = a.out.parent() {
+        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    }
+    let mut f = std::io::BufWriter::new(
+        std::fs::File::create(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?,
+    );
+    let mut text = String::from("speed_rad_s,mode,frequency_hz,damping_ratio,description\n");
+    for (w, m) in &rows {
+        for (k, mode) in m.modes.iter().enumerate() {
+            text.push_str(&format!(
+                "{w},{},{:.4},{:.5},{}\n",
+                k + 1,
+                mode.frequency_hz,
+                mode.damping_ratio,
+                mode.part.describe()
+            ));
+        }
+    }
+    f.write_all(text.as_bytes())
+        .map_err(|e| format!("{}: {e}", a.out.display()))?;
+    eprintln!("wrote {}", a.out.display());
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    match run() {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("modes: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

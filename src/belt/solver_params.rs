@@ -1,0 +1,100 @@
+//! Every internal knob of the solvers in one place, with its value and why.
+//!
+//! The user-facing choices (method, tolerances, first step, step guard) are
+//! [`SolverParams`](super::params::SolverParams), set through the FMU's
+//! `solver.*` variables. The values here are fixed: they were chosen on the
+//! paper's drives and are documented in docs/model.md ("Integrators"). A
+//! change to any of them changes results; rerun the accuracy benchmarks
+//! (`cargo bench --bench belt -- accuracy`, `cargo bench --bench stiff`).
+
+/// The solvers' fixed knobs. [`TUNING`] holds the values in use.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SolverTuning {
+    /// Error weight of the body angles and spins. They carry only the damped
+    /// artificial modes: 1e-3, not 0, so that a step that goes unstable in
+    /// them is still rejected.
+    pub weight_angles: f64,
+    /// Error weight of the body velocities with the creep law: they carry
+    /// the artificial modes and the creep velocities that set the slip
+    /// (1e-3 let the 5PK slip drift 5 % from RKF45's, 1e-2 0.3 %, for 28 %
+    /// more steps). With `kubas2014` the velocities keep weight 1: friction
+    /// follows the sliding velocity itself.
+    pub weight_creep_velocities: f64,
+    /// Loosest relative tolerance the stiff method is trusted with: at 1e-3
+    /// the 5PK drive's steps lose the creep arcs (a warning names
+    /// `solver.relTol` above it).
+    pub stiff_max_rel_tol: f64,
+    /// RKF45 step factor: safety 0.9 on the order-5 estimate err^(-1/5),
+    /// limited to [min, max] = [0.2, 5].
+    pub rkf45_safety: f64,
+    /// See `rkf45_safety`.
+    pub rkf45_factor_min: f64,
+    /// See `rkf45_safety`.
+    pub rkf45_factor_max: f64,
+    /// Rosenbrock (ROS34PW2) step factor: safety 0.9 on err^(-1/3) of its
+    /// order-3 embedded estimate, limited to [0.2, 4].
+    pub rosenbrock_safety: f64,
+    /// See `rosenbrock_safety`.
+    pub rosenbrock_factor_min: f64,
+    /// See `rosenbrock_safety`.
+    pub rosenbrock_factor_max: f64,
+    /// Step-size increases below this factor are not taken, so that the
+    /// factored iteration matrix (which depends on h) can be reused.
+    pub keep_step_below: f64,
+    /// Accepted steps a Jacobian is kept for (it is also re-evaluated after a
+    /// rejected step and after a restore).
+    pub jacobian_max_age: u32,
+    /// Regularisation length of the SDE direction at a zero gap, relative to
+    /// the body length (squared, it is the `eps2` of the stretch rate): far
+    /// below any gap a running belt has (strain 1e-6 of a body).
+    pub sde_regularisation: f64,
+    /// The relaxation of the mounted belt into equilibrium (before t0, with
+    /// friction off and mass-proportional damping near critical for the
+    /// contact mode) runs RKF45 at this relative tolerance...
+    pub relax_rel_tol: f64,
+    /// ... this absolute tolerance [m, m/s] ...
+    pub relax_abs_tol: f64,
+    /// ... from this first step [s] ...
+    pub relax_initial_step: f64,
+    /// ... in this many chunks of two contact periods each ...
+    pub relax_chunks: u64,
+    /// ... for at least this many contact periods, and stops once every body
+    /// moves slower than `relax_rest_speed` [m/s].
+    pub relax_min_periods: f64,
+    /// See `relax_min_periods`.
+    pub relax_rest_speed: f64,
+    /// Penetration [m] at which the relaxation takes the contact stiffness
+    /// dN/dp for its damping (a typical equilibrium penetration).
+    pub relax_penetration: f64,
+    /// Step-count guard of the relaxation in total.
+    pub relax_max_steps: u64,
+    /// Damping ratio of the radial contact mode below which a wrap counts as
+    /// undamped and a warning names the contact damping (the belt rattles on
+    /// the pulley after a shock; the paper's 5PK drive has 0.26).
+    pub weak_contact_damping: f64,
+}
+
+/// The values in use.
+pub const TUNING: SolverTuning = SolverTuning {
+    weight_angles: 1e-3,
+    weight_creep_velocities: 1e-2,
+    stiff_max_rel_tol: 1e-4,
+    rkf45_safety: 0.9,
+    rkf45_factor_min: 0.2,
+    rkf45_factor_max: 5.0,
+    rosenbrock_safety: 0.9,
+    rosenbrock_factor_min: 0.2,
+    rosenbrock_factor_max: 4.0,
+    keep_step_below: 1.25,
+    jacobian_max_age: 2,
+    sde_regularisation: 1e-6,
+    relax_rel_tol: 1e-5,
+    relax_abs_tol: 1e-9,
+    relax_initial_step: 1e-7,
+    relax_chunks: 20,
+    relax_min_periods: 10.0,
+    relax_rest_speed: 1e-5,
+    relax_penetration: 2e-4,
+    relax_max_steps: 5_000_000,
+    weak_contact_damping: 0.02,
+};

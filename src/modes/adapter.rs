@@ -1,0 +1,173 @@
+//! The one place the modal analysis touches the physics core: build a drive,
+//! run it, and read its state, its state layout and its dense Jacobian.
+//! Everything else in `modes` works on the [`Linearisation`] this returns.
+
+use crate::belt::jacobian::Jacobian;
+use crate::belt::model::BODY_DOF;
+use crate::belt::{Drive, DriveParams};
+
+/// Values per body in the state (x, y, phi, vx, vy, omega, z).
+pub const BODY_STATES: usize = BODY_DOF;
+
+/// A pulley as the analysis needs it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PulleyInfo {
+    pub centre: [f64; 2],
+    pub radius: f64,
+    pub inertia: f64,
+    /// Follows a prescribed speed (its angle and speed are no degrees of freedom).
+    pub speed_driven: bool,
+    /// Speed at the linearisation point [rad/s].
+    pub omega: f64,
+    /// Angle between neighbouring body centres on its wrap [rad] (0 without wrap).
+    pub pitch_angle: f64,
+    /// +1 wrapped inside the loop, -1 back-side idler.
+    pub side: f64,
+}
+
+/// The drive's state and Jacobian at one instant, with the state layout.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Linearisation {
+    pub time: f64,
+    /// State vector, `dim` values.
+    pub y: Vec<f64>,
+    /// d(dy/dt)/dy, row-major `dim x dim`.
+    pub jacobian: Vec<f64>,
+    pub dim: usize,
+    /// Number of belt bodies.
+    pub n: usize,
+    /// Body mass [kg] and moment of inertia [kg m^2].
+    pub mass: f64,
+    pub inertia: f64,
+    /// Natural body length [m].
+    pub body_length: f64,
+    pub pulleys: Vec<PulleyInfo>,
+    /// Free spans (pulley it leaves, pulley it reaches, length [m]), loop order.
+    pub spans: Vec<(usize, usize, f64)>,
+}
+
+impl Linearisation {
+    /// Index of body `i`'s state `k` (0..7: x, y, phi, vx, vy, omega, z).
+    pub fn body(&self, i: usize, k: usize) -> usize {
+        BODY_STATES * i + k
+    }
+    /// Indices of pulley `j`'s angle and speed.
+    pub fn pulley(&self, j: usize) -> (usize, usize) {
+        let o = BODY_STATES * self.n + 2 * j;
+        (o, o + 1)
+    }
+    /// Index of the first of the two energy accumulators (no dynamics).
+    pub fn energy(&self) -> usize {
+        BODY_STATES * self.n + 2 * self.pulleys.len()
+    }
+    /// The pulley whose circle contains body `i`'s centre (the contact test
+    /// of the model), if any.
+    pub fn contact_of(&self, i: usize) -> Option<usize> {
+        let (x, y) = (self.y[self.body(i, 0)], self.y[self.body(i, 1)]);
+        self.pulleys.iter().position(|p| {
+            let (dx, dy) = (x - p.centre[0], y - p.centre[1]);
+            dx * dx + dy * dy < p.radius * p.radius
+        })
+    }
+}
+
+/// Validates the parameters, lays the belt out and settles it into static
+/// equilibrium (the mounted static state). The error names the parameter.
+pub fn build(params: &DriveParams) -> Result<Drive, String> {
+    Drive::new(params, 0.0).map_err(|e| e.to_string())
+}
+
+/// Integrates the drive to time `t`, in calls of at most 1 ms (the
+/// parameters' `solver.maxSteps` guards one call, as it guards one
+/// fmi2DoStep of the FMU).
+pub fn run_to(drive: &mut Drive, t: f64) -> Result<(), String> {
+    const CHUNK: f64 = 1e-3;
+    while drive.time() < t {
+        let next = (drive.time() + CHUNK).min(t);
+        drive
+            .advance(next)
+            .map_err(|e| format!("the run to t = {t} s failed: {e:?}"))?;
+    }
+    Ok(())
+}
+
+/// State, layout and analytic Jacobian of the drive now.
+pub fn linearise(drive: &Drive) -> Linearisation {
+    let sys = drive.system();
+    let y = drive.state().to_vec();
+    let t = drive.time();
+    let mut jac = Jacobian::new(sys);
+    sys.jacobian(t, &y, &mut jac);
+    let layout = drive.layout();
+    let pulleys = drive
+        .params()
+        .pulleys
+        .iter()
+        .enumerate()
+        .map(|(j, p)| {
+            let wrap = layout.wrap_of(j);
+            PulleyInfo {
+                centre: [p.x, p.y],
+                radius: p.radius,
+                inertia: p.inertia,
+                speed_driven: p.speed_driven,
+                omega: sys.pulley_speed(j, t, &y),
+                pitch_angle: wrap.map_or(0.0, |w| w.pitch_angle),
+                side: wrap.map_or(1.0, |w| w.side),
+            }
+        })
+        .collect();
+    Linearisation {
+        time: t,
+        jacobian: jac.to_dense(sys),
+        dim: sys.dim(),
+        n: sys.n,
+        mass: sys.mass,
+        inertia: sys.inertia,
+        body_length: layout.body_length,
+        pulleys,
+        spans: layout
+            .spans
+            .iter()
+            .map(|s| (s.from, s.to, s.length))
+            .collect(),
+        y,
+    }
+}
+
+/// Current state (read-only), e.g. for a time-domain cross-check.
+pub fn state(drive: &Drive) -> &[f64] {
+    drive.state()
+}
+
+/// Replaces the drive's state at its current time (a perturbed initial
+/// condition for a free-vibration run).
+pub fn set_state(drive: &mut Drive, y: &[f64]) -> Result<(), String> {
+    let (t, inputs) = (drive.time(), *drive.inputs());
+    let stats = drive.stats();
+    let h = drive.next_step_size();
+    let data = drive.integrator_data();
+    if drive.restore(t, y, inputs, h, stats, &data) {
+        Ok(())
+    } else {
+        Err(format!(
+            "state of length {} does not fit the drive ({})",
+            y.len(),
+            drive.state().len()
+        ))
+    }
+}
+
+/// Tension of the middle element of every free span (span k from pulley k
+/// to pulley k+1) [N], and the mean speed of the belt bodies [m/s].
+pub fn span_tensions_and_speed(drive: &mut Drive) -> (Vec<f64>, f64) {
+    let np = drive.params().pulleys.len();
+    let o = drive.outputs();
+    let y = drive.state();
+    let n = drive.system().n;
+    let v = (0..n)
+        .map(|i| y[BODY_DOF * i + 3].hypot(y[BODY_DOF * i + 4]))
+        .sum::<f64>()
+        / n as f64;
+    (o.span_tension[..np].to_vec(), v)
+}

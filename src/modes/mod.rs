@@ -1,0 +1,502 @@
+//! Modal analysis of a belt drive: natural frequencies, damping ratios and
+//! mode descriptions from the eigen-decomposition of the analytic Jacobian
+//! (docs/modes.md).
+//!
+//! * About the mounted static state: the Jacobian itself.
+//! * About steady running: the Jacobian at one instant, written for
+//!   perturbations seen at fixed places along the belt path (each body's
+//!   position and velocity in its own tangent/normal frame, plus the
+//!   transport of the belt past those places, `-(1/P) D`, P the time the
+//!   belt takes to advance one body, D the centred difference along the
+//!   body index). This is the average (first-order Floquet) generator of the
+//!   time-periodic linearisation of a discrete belt in steady motion; it
+//!   freezes which bodies touch which pulley at that instant.
+//!
+//! States with no dynamics are removed exactly before the eigen-solve: a
+//! state whose row or column of the Jacobian is zero off the diagonal (pulley
+//! angles, speeds of speed-driven pulleys, the creep of bodies off the
+//! pulleys, the energy accumulators) splits off with its diagonal as
+//! eigenvalue.
+//!
+//! Everything the analysis needs from the core goes through [`adapter`].
+
+pub mod adapter;
+pub mod params;
+
+use adapter::Linearisation;
+use faer::linalg::solvers::Eigen;
+use faer::Mat;
+use std::f64::consts::TAU;
+
+/// Options of one analysis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Options {
+    /// Highest natural frequency reported [Hz].
+    pub max_frequency_hz: f64,
+    /// Add the transport of the moving belt (steady running); off for a
+    /// drive at rest.
+    pub transport: bool,
+    /// Natural frequencies below this count as zero modes (rigid motion) [Hz].
+    pub zero_frequency_hz: f64,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Self {
+            max_frequency_hz: 2000.0,
+            transport: false,
+            zero_frequency_hz: 0.5,
+        }
+    }
+}
+
+/// What moves most in a mode (by kinetic energy).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Part {
+    /// Span k (1-based: from pulley k to pulley k+1 in the parameter order).
+    SpanTransverse(usize),
+    SpanLongitudinal(usize),
+    /// Pulley j's rotation (1-based).
+    PulleyRotation(usize),
+    /// Tensioner arm j (1-based). Hook: the state has no arm yet; when it
+    /// does, its rotational kinetic energy joins the shares in [`classify`].
+    Arm(usize),
+    /// Bodies rotating against their neighbours: an artefact of the discrete belt.
+    BeltPitching,
+    /// The belt running round with all free pulleys in phase, held only by
+    /// the polygon (cogging) potential of the discrete chain (artefact,
+    /// vanishes as the body length squared).
+    RigidRotation,
+    /// Bodies on pulley j's wrap bouncing on the penalty contact (artefact).
+    WrapRadial(usize),
+    /// Bodies on pulley j's wrap on the creep spring of the friction law (artefact).
+    WrapTangential(usize),
+}
+
+impl Part {
+    /// Modes of the discrete bodies (not of the belt drive being modelled).
+    pub fn artificial(self) -> bool {
+        matches!(
+            self,
+            Self::BeltPitching
+                | Self::RigidRotation
+                | Self::WrapRadial(_)
+                | Self::WrapTangential(_)
+        )
+    }
+
+    pub fn describe(self) -> String {
+        match self {
+            Self::SpanTransverse(k) => format!("span {k} transverse"),
+            Self::SpanLongitudinal(k) => format!("span {k} longitudinal"),
+            Self::PulleyRotation(j) => format!("pulley {j} rotation"),
+            Self::Arm(j) => format!("arm {j}"),
+            Self::BeltPitching => "belt pitching".into(),
+            Self::RigidRotation => "belt pitching (rigid rotation on the polygon)".into(),
+            Self::WrapRadial(j) => format!("belt pitching (wrap {j} radial contact)"),
+            Self::WrapTangential(j) => format!("belt pitching (wrap {j} tangential creep)"),
+        }
+    }
+}
+
+/// One mode: a complex pair lambda = -zeta w_n +- i w_n sqrt(1 - zeta^2).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mode {
+    /// Undamped natural frequency |lambda| / 2 pi [Hz].
+    pub frequency_hz: f64,
+    /// -Re(lambda) / |lambda|.
+    pub damping_ratio: f64,
+    /// Damped frequency Im(lambda) / 2 pi [Hz].
+    pub damped_hz: f64,
+    pub part: Part,
+    /// Share of the mode's kinetic energy in `part`.
+    pub share: f64,
+}
+
+/// Result of one analysis.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Modes {
+    /// Oscillating modes up to the frequency limit, by frequency.
+    pub modes: Vec<Mode>,
+    /// Eigenvalues of magnitude below the zero-frequency limit (rigid
+    /// rotation of the belt with free pulleys, states without dynamics).
+    pub zero_modes: usize,
+    /// Real eigenvalues beyond the zero limit (overdamped motions).
+    pub overdamped: usize,
+    /// Oscillating modes above the frequency limit.
+    pub above_limit: usize,
+    /// States split off before the eigen-solve (no dynamics of their own).
+    pub removed_states: usize,
+    /// Size of the eigenproblem solved.
+    pub reduced_dim: usize,
+    /// Bodies passing a point per second (transport), 0 at rest.
+    pub body_rate: f64,
+}
+
+/// Where a body is: on pulley j's wrap or on span k (0-based).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Region {
+    Wrap(usize),
+    Span(usize),
+}
+
+/// Region of every body at the linearisation state: contact by the model's
+/// own test; a free body belongs to the span between the pulleys it runs
+/// between (span k goes from pulley k to pulley k+1 or back).
+pub fn regions(lin: &Linearisation) -> Vec<Region> {
+    let n = lin.n;
+    let np = lin.pulleys.len();
+    let contact: Vec<Option<usize>> = (0..n).map(|i| lin.contact_of(i)).collect();
+    if contact.iter().all(Option::is_none) {
+        return vec![Region::Span(0); n];
+    }
+    let span_of = |a: usize, b: usize| {
+        if (a + 1) % np == b {
+            a
+        } else if (b + 1) % np == a {
+            b
+        } else {
+            a.min(b)
+        }
+    };
+    (0..n)
+        .map(|i| match contact[i] {
+            Some(j) => Region::Wrap(j),
+            None => {
+                let back = (1..n).find_map(|k| contact[(i + n - k) % n]).unwrap_or(0);
+                let fwd = (1..n).find_map(|k| contact[(i + k) % n]).unwrap_or(0);
+                Region::Span(span_of(back, fwd))
+            }
+        })
+        .collect()
+}
+
+/// Centred difference along the periodic body index (spacing 1): entry
+/// (i, j). Non-dissipative, so the transport adds no damping of its own. (A
+/// spectral derivative, the exact logarithm of the one-body shift, couples
+/// the whole loop and gave spurious low modes across the span/wrap junctions.)
+fn derivative(n: usize, i: usize, j: usize) -> f64 {
+    if j == (i + 1) % n {
+        0.5
+    } else if j == (i + n - 1) % n {
+        -0.5
+    } else {
+        0.0
+    }
+}
+
+/// The system matrix of the analysis (row-major), and the transport rate.
+/// At rest: the Jacobian. Running: in body frames, with transport.
+fn system_matrix(lin: &Linearisation, transport: bool) -> (Vec<f64>, f64) {
+    let dim = lin.dim;
+    let mut a = lin.jacobian.clone();
+    if !transport {
+        return (a, 0.0);
+    }
+    let n = lin.n;
+    // Rotate every body's (x, y) and (vx, vy) into its tangent/normal frame:
+    // A <- R^T A R, then the frame's own rotation: - phi' G on both blocks.
+    let rot: Vec<(f64, f64)> = (0..n)
+        .map(|i| {
+            let phi = lin.y[lin.body(i, 2)];
+            (phi.cos(), phi.sin())
+        })
+        .collect();
+    for (i, &(c, s)) in rot.iter().enumerate() {
+        for off in [0, 3] {
+            let (p, q) = (lin.body(i, off), lin.body(i, off + 1));
+            // rows: R^T
+            for col in 0..dim {
+                let (u, v) = (a[p * dim + col], a[q * dim + col]);
+                a[p * dim + col] = c * u + s * v;
+                a[q * dim + col] = -s * u + c * v;
+            }
+            // columns: R
+            for row in 0..dim {
+                let (u, v) = (a[row * dim + p], a[row * dim + q]);
+                a[row * dim + p] = c * u + s * v;
+                a[row * dim + q] = -s * u + c * v;
+            }
+        }
+        let w = lin.y[lin.body(i, 5)];
+        for off in [0, 3] {
+            let (p, q) = (lin.body(i, off), lin.body(i, off + 1));
+            a[p * dim + q] += w;
+            a[q * dim + p] -= w;
+        }
+    }
+    // Belt speed in bodies per second, and its direction along the index.
+    let mut speed = 0.0;
+    let mut pitch = 0.0;
+    let mut dir = 0.0;
+    for i in 0..n {
+        let k = (i + 1) % n;
+        let d = [
+            lin.y[lin.body(k, 0)] - lin.y[lin.body(i, 0)],
+            lin.y[lin.body(k, 1)] - lin.y[lin.body(i, 1)],
+        ];
+        let v = [lin.y[lin.body(i, 3)], lin.y[lin.body(i, 4)]];
+        speed += v[0].hypot(v[1]);
+        pitch += d[0].hypot(d[1]);
+        dir += v[0] * d[0] + v[1] * d[1];
+    }
+    let rate = dir.signum() * speed / pitch;
+    // Transport: perturbations at fixed places, d/dt = material - rate D.
+    // The creep states are left out: a body's creep is reset when it leaves
+    // the pulley, so it does not travel with the belt as a field.
+    for i in 0..n {
+        for j in [(i + n - 1) % n, (i + 1) % n] {
+            let d = rate * derivative(n, i, j);
+            if d == 0.0 {
+                continue;
+            }
+            for k in 0..6 {
+                a[lin.body(i, k) * dim + lin.body(j, k)] -= d;
+            }
+        }
+    }
+    (a, rate)
+}
+
+/// Splits off states whose row or column is zero off the diagonal; returns
+/// the kept indices and the split-off diagonal values.
+fn reduce(a: &[f64], dim: usize) -> (Vec<usize>, Vec<f64>) {
+    let mut keep: Vec<bool> = vec![true; dim];
+    let mut split = Vec::new();
+    loop {
+        let mut changed = false;
+        for k in 0..dim {
+            if !keep[k] {
+                continue;
+            }
+            let row_zero = (0..dim).all(|c| c == k || !keep[c] || a[k * dim + c] == 0.0);
+            let col_zero = (0..dim).all(|r| r == k || !keep[r] || a[r * dim + k] == 0.0);
+            if row_zero || col_zero {
+                keep[k] = false;
+                split.push(a[k * dim + k]);
+                changed = true;
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
+    ((0..dim).filter(|&k| keep[k]).collect(), split)
+}
+
+/// Diagonal similarity scaling (powers of 2, row and column norms brought
+/// together, as LAPACK's balancing), so that the eigen-solve sees entries of
+/// comparable size (the raw Jacobian spans 1 to ~1e10). Returns the scales d:
+/// the balanced matrix is D^-1 A D.
+fn balance(a: &mut Mat<f64>) -> Vec<f64> {
+    let n = a.nrows();
+    let mut d = vec![1.0; n];
+    for _ in 0..100 {
+        let mut done = true;
+        for i in 0..n {
+            let mut c = 0.0;
+            let mut r = 0.0;
+            for j in 0..n {
+                if j != i {
+                    c += a[(j, i)].abs();
+                    r += a[(i, j)].abs();
+                }
+            }
+            if c == 0.0 || r == 0.0 {
+                continue;
+            }
+            let mut f = 1.0;
+            let s = c + r;
+            let (mut c2, mut r2) = (c, r);
+            while c2 < r2 / 2.0 {
+                c2 *= 2.0;
+                r2 /= 2.0;
+                f *= 2.0;
+            }
+            while c2 >= r2 * 2.0 {
+                c2 /= 2.0;
+                r2 *= 2.0;
+                f /= 2.0;
+            }
+            if (c2 + r2) < 0.95 * s {
+                done = false;
+                d[i] *= f;
+                for j in 0..n {
+                    a[(i, j)] /= f;
+                    a[(j, i)] *= f;
+                }
+            }
+        }
+        if done {
+            break;
+        }
+    }
+    d
+}
+
+/// Modes of the linearised drive.
+pub fn analyse(lin: &Linearisation, opts: &Options) -> Result<Modes, String> {
+    let dim = lin.dim;
+    let (a, rate) = system_matrix(lin, opts.transport);
+    let (keep, split) = reduce(&a, dim);
+    let m = keep.len();
+    let mut red = Mat::<f64>::from_fn(m, m, |r, c| a[keep[r] * dim + keep[c]]);
+    if !red.as_ref().is_all_finite() {
+        return Err("the Jacobian has non-finite entries at this state".into());
+    }
+    let scale = balance(&mut red);
+    let evd = Eigen::new_from_real(red.as_ref())
+        .map_err(|e| format!("eigen-decomposition failed: {e:?}"))?;
+    let w_zero = TAU * opts.zero_frequency_hz;
+    let mut out = Modes {
+        removed_states: dim - m,
+        reduced_dim: m,
+        body_rate: rate,
+        ..Modes::default()
+    };
+    for d in split {
+        if d.abs() < w_zero {
+            out.zero_modes += 1;
+        } else {
+            out.overdamped += 1;
+        }
+    }
+    let regions = regions(lin);
+    let s = evd.S();
+    let u = evd.U();
+    let mut vec = vec![faer::c64::new(0.0, 0.0); dim];
+    for k in 0..m {
+        let lam = s[k];
+        let mag = lam.re.hypot(lam.im);
+        if mag < w_zero {
+            out.zero_modes += 1;
+            continue;
+        }
+        if lam.im == 0.0 {
+            out.overdamped += 1;
+            continue;
+        }
+        if lam.im < 0.0 {
+            continue; // the conjugate of a pair already counted
+        }
+        let f = mag / TAU;
+        if f > opts.max_frequency_hz {
+            out.above_limit += 1;
+            continue;
+        }
+        vec.iter_mut().for_each(|x| *x = faer::c64::new(0.0, 0.0));
+        for (r, &idx) in keep.iter().enumerate() {
+            vec[idx] = u[(r, k)] * scale[r];
+        }
+        let (part, share) = classify(lin, &regions, &vec, opts.transport);
+        out.modes.push(Mode {
+            frequency_hz: f,
+            damping_ratio: -lam.re / mag,
+            damped_hz: lam.im / TAU,
+            part,
+            share,
+        });
+    }
+    out.modes
+        .sort_by(|a, b| a.frequency_hz.total_cmp(&b.frequency_hz));
+    Ok(out)
+}
+
+/// What moves most in the mode with (complex) eigenvector `v`: kinetic
+/// energy of every body's motion along and across the belt and its spin,
+/// and of every free pulley's rotation, summed by region. `local`: the
+/// body velocities are already in body frames.
+pub fn classify(
+    lin: &Linearisation,
+    regions: &[Region],
+    v: &[faer::c64],
+    local: bool,
+) -> (Part, f64) {
+    let np = lin.pulleys.len();
+    // [span transverse, span longitudinal] per span, [radial, tangential]
+    // per wrap, rotation per pulley, pitching.
+    let mut span = vec![[0.0; 2]; np.max(1)];
+    let mut wrap = vec![[0.0; 2]; np];
+    let mut pulley = vec![0.0; np];
+    let mut pitching = 0.0;
+    for (i, region) in regions.iter().enumerate() {
+        let (vx, vy, w) = (v[lin.body(i, 3)], v[lin.body(i, 4)], v[lin.body(i, 5)]);
+        let (t, nrm) = if local {
+            (vx, vy)
+        } else {
+            let phi = lin.y[lin.body(i, 2)];
+            let (c, s) = (phi.cos(), phi.sin());
+            (vx * c + vy * s, vy * c - vx * s)
+        };
+        let ke_t = lin.mass * t.norm_sqr();
+        let ke_n = lin.mass * nrm.norm_sqr();
+        pitching += lin.inertia * w.norm_sqr();
+        match *region {
+            Region::Span(k) => {
+                span[k][0] += ke_n;
+                span[k][1] += ke_t;
+            }
+            Region::Wrap(j) => {
+                wrap[j][0] += ke_n;
+                // A body that moves with the pulley surface belongs to the
+                // pulley's rotation; only the motion against it is the
+                // creep spring's.
+                let p = &lin.pulleys[j];
+                let surface = v[lin.pulley(j).1] * (p.side * p.radius);
+                if !p.speed_driven && (t - surface).norm() < 0.5 * t.norm() {
+                    pulley[j] += ke_t;
+                } else {
+                    wrap[j][1] += ke_t;
+                }
+            }
+        }
+    }
+    for (j, p) in lin.pulleys.iter().enumerate() {
+        if !p.speed_driven {
+            pulley[j] += p.inertia * v[lin.pulley(j).1].norm_sqr();
+        }
+    }
+    let mut best = (Part::BeltPitching, pitching);
+    let mut total = pitching;
+    let mut consider = |part: Part, e: f64| {
+        total += e;
+        if e > best.1 {
+            best = (part, e);
+        }
+    };
+    for (k, s) in span.iter().enumerate() {
+        consider(Part::SpanTransverse(k + 1), s[0]);
+        consider(Part::SpanLongitudinal(k + 1), s[1]);
+    }
+    for (j, w) in wrap.iter().enumerate() {
+        consider(Part::WrapRadial(j + 1), w[0]);
+        consider(Part::WrapTangential(j + 1), w[1]);
+    }
+    for (j, &e) in pulley.iter().enumerate() {
+        consider(Part::PulleyRotation(j + 1), e);
+    }
+    let share = if total > 0.0 { best.1 / total } else { 0.0 };
+    // All free pulleys' surfaces moving together, within a factor 2 and in
+    // phase: the belt turns round as a whole.
+    if let Part::PulleyRotation(_) = best.0 {
+        let surf: Vec<faer::c64> = lin
+            .pulleys
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| !p.speed_driven)
+            .map(|(j, p)| v[lin.pulley(j).1] * (p.side * p.radius))
+            .collect();
+        // (a speed-driven pulley holds the belt: no rigid rotation then)
+        let all_free = lin.pulleys.iter().all(|p| !p.speed_driven);
+        let together = all_free
+            && surf.len() >= 2
+            && surf.iter().all(|a| {
+                surf.iter()
+                    .all(|b| (a * b.conj()).re > 0.0 && a.norm() < 2.0 * b.norm())
+            });
+        if together {
+            return (Part::RigidRotation, share);
+        }
+    }
+    (best.0, share)
+}

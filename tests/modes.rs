@@ -1,0 +1,380 @@
+//! Modal analysis (src/modes, docs/modes.md) against closed-form laws and a
+//! time-domain run of the same core. The drives are not the paper's:
+//! unequal pulleys, a light and a heavy belt. Run with
+//! `cargo test --release --features modes --test modes`.
+
+use belt_drive::belt::params::Method;
+use belt_drive::belt::{Drive, DriveParams};
+use belt_drive::modes::{adapter, analyse, Mode, Modes, Options, Part};
+
+/// Two free (torque-driven, unloaded) pulleys of radii 40 and 25 mm, 0.35 m
+/// apart; a light belt (0.2 kg/m, EA 1.5e5 N) under 300 N; `n` bodies.
+fn two_pulley(n: usize) -> DriveParams {
+    let mut p = DriveParams::kubas_section4();
+    p.pulleys[0].radius = 0.04;
+    p.pulleys[0].torque_ramp = 0.0;
+    p.pulleys[0].inertia = 2e-3;
+    p.pulleys[1].radius = 0.025;
+    p.pulleys[1].x = 0.35;
+    p.pulleys[1].inertia = 5e-4;
+    p.pulleys[1].load_damping = 0.0;
+    p.belt.n_bodies = n;
+    p.belt.preload = 300.0;
+    p.belt.mass_per_length = 0.2;
+    p.belt.ea = 1.5e5;
+    p.probe_body = 0;
+    p
+}
+
+fn modes_at_rest(p: &DriveParams) -> (adapter::Linearisation, Modes) {
+    let drive = adapter::build(p).expect("valid drive");
+    let lin = adapter::linearise(&drive);
+    let m = analyse(&lin, &Options::default()).expect("eigen-solve");
+    (lin, m)
+}
+
+fn of(m: &Modes, part: Part) -> Vec<&Mode> {
+    m.modes.iter().filter(|x| x.part == part).collect()
+}
+
+/// Length of the span from pulley `a` to `b` (either direction).
+fn span_length(lin: &adapter::Linearisation, a: usize, b: usize) -> f64 {
+    lin.spans
+        .iter()
+        .find(|s| (s.0 == a && s.1 == b) || (s.0 == b && s.1 == a))
+        .expect("span")
+        .2
+}
+
+/// A free span at rest is a string: f_n = n / (2 L) sqrt(T / rho'), rho' the
+/// mass per stretched length. Tolerance 2 %: the discrete chain's boundary
+/// (the last body in contact) is within about one body length (6 mm here,
+/// 1.7 % of L) of the tangent point, and its dispersion at the third mode
+/// (12 bodies per half wave) is below 0.3 %; bending (EI / T (n pi / L)^2 / 2
+/// < 1e-3) and the string's stretch are far below it. Measured: within 0.6 %.
+#[test]
+fn span_transverse_modes_are_the_strings() {
+    let p = two_pulley(120);
+    let (lin, m) = modes_at_rest(&p);
+    let rho = p.belt.mass_per_length / (1.0 + p.belt.preload / p.belt.ea);
+    let c = (p.belt.preload / rho).sqrt();
+    for (k, (a, b)) in [(0, 1), (1, 0)].into_iter().enumerate() {
+        let l = span_length(&lin, a, b);
+        let found = of(&m, Part::SpanTransverse(k + 1));
+        assert!(found.len() >= 3, "span {} modes: {found:?}", k + 1);
+        for (i, mode) in found.iter().take(3).enumerate() {
+            let f = (i + 1) as f64 * c / (2.0 * l);
+            let err = mode.frequency_hz / f - 1.0;
+            eprintln!(
+                "span {} mode {}: {:.3} Hz, string {f:.3} Hz ({:+.2} %), zeta {:.1e}",
+                k + 1,
+                i + 1,
+                mode.frequency_hz,
+                100.0 * err,
+                mode.damping_ratio
+            );
+            assert!(err.abs() < 0.02, "span {} mode {}: {err:+.4}", k + 1, i + 1);
+        }
+    }
+}
+
+/// The rotational mode: two pulley inertias coupled through both spans, each
+/// a spring EA / L_span in the belt's displacement u_j = r_j theta_j. The
+/// belt's mass enters as a consistent bar mass of each span (m/3, m/6) and the
+/// wrapped belt moving with its pulley, so the 2-DOF law is
+/// w^2 = K (M11 + M22 + 2 M12) / (M11 M22 - M12^2), K the sum of the span
+/// stiffnesses. It assumes the belt adheres on the wraps: the creep law's
+/// spring makes the wrapped belt take part in the stretch over a shear-lag
+/// length sqrt(EA / k_creep) (22 mm with friction.creepMax = 1e-4 m, docs),
+/// so this check stiffens it to creepMax = 1e-6 m (2 mm). Tolerance 5 %: the
+/// residual shear lag (2 x 2 mm on 0.35 m spans) and the contact's radial
+/// compliance at the tangent points; measured: see the printout.
+#[test]
+fn rotational_mode_is_two_inertias_on_two_spans() {
+    let mut p = two_pulley(120);
+    p.friction.creep_max = 1e-6;
+    let (lin, m) = modes_at_rest(&p);
+    let rho = p.belt.mass_per_length;
+    let mut k = 0.0;
+    let mut m12 = 0.0;
+    let mut mass = [0.0; 2];
+    for (j, q) in p.pulleys.iter().enumerate() {
+        mass[j] = q.inertia / (q.radius * q.radius);
+    }
+    for s in &lin.spans {
+        k += p.belt.ea / s.2;
+        let ms = rho * s.2;
+        mass[0] += ms / 3.0;
+        mass[1] += ms / 3.0;
+        m12 += ms / 6.0;
+    }
+    // wrapped belt on each pulley moves with it
+    let wrap_len = |j: usize| {
+        let l = span_length(&lin, 0, 1);
+        let d = p.pulleys[1].radius - p.pulleys[0].radius;
+        let beta = (d / l).asin();
+        let angle = if j == 0 {
+            std::f64::consts::PI - 2.0 * beta
+        } else {
+            std::f64::consts::PI + 2.0 * beta
+        };
+        angle * p.pulleys[j].radius
+    };
+    mass[0] += rho * wrap_len(0);
+    mass[1] += rho * wrap_len(1);
+    // the coupling is u1 - u2 in the spans' convention: in-phase belt motion
+    // is the rigid mode, so the mass coupling acts with the sign that keeps it
+    let w2 = k * (mass[0] + mass[1] + 2.0 * m12) / (mass[0] * mass[1] - m12 * m12);
+    let w2_massless = k * (1.0 / mass[0] + 1.0 / mass[1]);
+    let f = w2.sqrt() / std::f64::consts::TAU;
+    let rot: Vec<&Mode> = m
+        .modes
+        .iter()
+        .filter(|x| matches!(x.part, Part::PulleyRotation(_)))
+        .collect();
+    assert!(!rot.is_empty(), "no rotational mode: {:?}", m.modes);
+    let mode = rot[0];
+    let err = mode.frequency_hz / f - 1.0;
+    eprintln!(
+        "rotational mode {:.2} Hz ({:?}), closed form {f:.2} Hz ({:+.2} %; massless belt {:.2} Hz), \
+         damping ratio {:.4}",
+        mode.frequency_hz,
+        mode.part,
+        100.0 * err,
+        w2_massless.sqrt() / std::f64::consts::TAU,
+        mode.damping_ratio
+    );
+    assert!(err.abs() < 0.05, "{err:+.4}");
+    assert!(mode.damping_ratio > 0.0 && mode.damping_ratio < 0.2);
+}
+
+/// A heavy belt (0.5 kg/m) under 100 N on two 50 mm pulleys 0.4 m apart,
+/// pulley 1 speed-driven, pulley 2 free and unloaded; `n` bodies.
+fn heavy_running(n: usize, method: Method) -> DriveParams {
+    let mut p = DriveParams::kubas_section4();
+    p.pulleys[0].radius = 0.05;
+    p.pulleys[0].torque_ramp = 0.0;
+    p.pulleys[0].speed_driven = true;
+    p.pulleys[0].omega_ramp = -140.0;
+    p.pulleys[0].ramp_time = 0.1;
+    p.pulleys[1].radius = 0.05;
+    p.pulleys[1].x = 0.4;
+    p.pulleys[1].inertia = 1e-3;
+    p.pulleys[1].load_damping = 0.0;
+    p.belt.n_bodies = n;
+    p.belt.preload = 100.0;
+    p.belt.mass_per_length = 0.5;
+    p.solver.method = method;
+    p.probe_body = 0;
+    p
+}
+
+/// Runs to steady running (0.5 s after the 0.1 s ramp), returns the modes,
+/// the tension of span 1 and the belt speed.
+fn running(p: &DriveParams) -> (Modes, f64, f64) {
+    let mut drive = adapter::build(p).expect("valid drive");
+    adapter::run_to(&mut drive, 0.6).expect("run");
+    let (tensions, v) = adapter::span_tensions_and_speed(&mut drive);
+    let lin = adapter::linearise(&drive);
+    let o = Options {
+        transport: true,
+        ..Options::default()
+    };
+    (analyse(&lin, &o).expect("eigen-solve"), tensions[0], v)
+}
+
+/// The lowest decaying transverse mode of span 1 (the running analysis also
+/// yields a few slowly growing modes below 5 Hz from the frozen contact
+/// set; docs/modes.md, "Steady running").
+fn first_running_transverse(m: &Modes) -> &Mode {
+    m.modes
+        .iter()
+        .find(|x| x.part == Part::SpanTransverse(1) && x.damping_ratio > 0.0)
+        .expect("a transverse mode of span 1")
+}
+
+/// The axially moving string: f_1 = (c^2 - v^2) / (2 L c), c = sqrt(T/rho),
+/// T the span's tension in steady running, v the belt speed (7 m/s against
+/// c ~ 14 m/s: 22 % below the standing string, so the check tells them
+/// apart). Tolerance 5 %: the 2 % of the discrete boundary (above) plus the
+/// frozen contact set (bodies enter and leave the wraps within one body
+/// passage, 1/400 s here) and the centred transport difference.
+///
+/// Known gap: measured -9 % (80 bodies) to -13 % (160 bodies) for f1, while
+/// the spacing of the higher modes matches the moving string within 1 %
+/// (docs/modes.md, "Steady running"); the cause is not found yet.
+#[test]
+#[ignore = "known gap: running f1 9-13 % below the moving string (docs/modes.md)"]
+fn running_span_mode_is_the_axially_moving_strings() {
+    let p = heavy_running(120, Method::Rosenbrock);
+    let (m, t, v) = running(&p);
+    let rho = p.belt.mass_per_length / (1.0 + t / p.belt.ea);
+    let c = (t / rho).sqrt();
+    let l = 0.4;
+    let f = (c * c - v * v) / (2.0 * l * c);
+    let mode = first_running_transverse(&m);
+    let err = mode.frequency_hz / f - 1.0;
+    eprintln!(
+        "running: T {t:.1} N, v {v:.2} m/s, c {c:.2} m/s: f1 {:.3} Hz, moving string {f:.3} Hz \
+         ({:+.2} %), standing string {:.3} Hz; zeta {:.1e}",
+        mode.frequency_hz,
+        100.0 * err,
+        c / (2.0 * l),
+        mode.damping_ratio
+    );
+    assert!(v > 0.4 * c, "the check needs v/c large: {v} / {c}");
+    assert!(err.abs() < 0.05, "{err:+.4}");
+}
+
+/// The modes do not depend on the integrator: the two-pulley drive kept at
+/// rest for 50 ms by each method (the polygon potential and gravity move it
+/// slightly) gives the same first ten modes within 0.1 % (both runs are
+/// converged to relTol 1e-4; a state error of that order moves a frequency by
+/// as little). The belt's rigid rotation on the polygon is left out: its
+/// ~2.7 Hz depends on where in the cogging potential the belt has rocked to
+/// (2.70 vs 2.65 Hz after the two runs).
+///
+/// Not checked in steady running: there the frozen-time frequencies move by
+/// more than the methods differ from one snapshot to the next (the heavy-belt
+/// drive's f1: 13.08, 13.44, 12.18, 11.20 Hz at 0.60, 0.61, 0.62, 0.63 s with
+/// the stiff method; docs/modes.md, "Steady running").
+#[test]
+fn modes_do_not_depend_on_the_integrator() {
+    let f: Vec<Vec<f64>> = [Method::Rkf45, Method::Rosenbrock]
+        .into_iter()
+        .map(|method| {
+            let mut p = two_pulley(80);
+            p.solver.method = method;
+            let mut drive = adapter::build(&p).expect("valid drive");
+            adapter::run_to(&mut drive, 0.05).expect("run");
+            let lin = adapter::linearise(&drive);
+            let m = analyse(&lin, &Options::default()).expect("eigen-solve");
+            m.modes
+                .iter()
+                .filter(|x| !x.part.artificial())
+                .take(10)
+                .map(|x| x.frequency_hz)
+                .collect()
+        })
+        .collect();
+    eprintln!("RKF45 {:?}\nRosenbrock {:?}", f[0], f[1]);
+    assert_eq!(f[0].len(), 10);
+    for (a, b) in f[0].iter().zip(&f[1]) {
+        assert!((a / b - 1.0).abs() < 1e-3, "{a} {b}");
+    }
+}
+
+/// Frequencies converge with the body count: the first span mode and the
+/// rotational mode change less from 120 to 180 bodies than from 80 to 120,
+/// and by less than 1 % (a discretisation error of order l^2 falls by 2.25).
+#[test]
+fn frequencies_converge_with_body_count() {
+    let pick = |n: usize| {
+        let mut p = two_pulley(n);
+        p.friction.creep_max = 1e-6;
+        let (_, m) = modes_at_rest(&p);
+        let span = of(&m, Part::SpanTransverse(1))[0].frequency_hz;
+        let rot = m
+            .modes
+            .iter()
+            .find(|x| matches!(x.part, Part::PulleyRotation(_)))
+            .expect("rotational mode")
+            .frequency_hz;
+        [span, rot]
+    };
+    let f: Vec<[f64; 2]> = [80, 120, 180].into_iter().map(pick).collect();
+    eprintln!("80/120/180 bodies: {f:?}");
+    #[allow(clippy::needless_range_loop)] // q indexes the three runs' pairs
+    for q in 0..2 {
+        let d1 = (f[1][q] - f[0][q]).abs();
+        let d2 = (f[2][q] - f[1][q]).abs();
+        assert!(d2 < d1 && d2 < 0.01 * f[2][q], "{q}: {d1} {d2}");
+    }
+}
+
+/// Upward zero crossings of `x` minus its moving average over `window`
+/// samples: the frequency of the oscillation riding on a slow drift.
+fn zero_crossing_frequency(x: &[f64], dt: f64, window: usize) -> f64 {
+    let h = window / 2;
+    let mut crossings = Vec::new();
+    let mut prev: Option<f64> = None;
+    for i in h..x.len() - h {
+        let mean = x[i - h..i + h].iter().sum::<f64>() / (2 * h) as f64;
+        let d = x[i] - mean;
+        if let Some(p) = prev {
+            if p < 0.0 && d >= 0.0 {
+                crossings.push((i as f64 - 1.0 + p / (p - d)) * dt);
+            }
+        }
+        prev = Some(d);
+    }
+    assert!(crossings.len() > 5, "{} crossings", crossings.len());
+    (crossings.len() - 1) as f64 / (crossings[crossings.len() - 1] - crossings[0])
+}
+
+/// Free vibration of the two-pulley drive in the time domain (RKF45 through
+/// the same core the FMU runs): the pulleys' surfaces kicked against each
+/// other and span 1 given a half-sine transverse velocity; the pulley speed
+/// and the mid-span body's transverse motion oscillate at the predicted
+/// rotational and first transverse frequencies. Tolerance 5 %: the
+/// zero-crossing estimate over 0.2 s (40 rotational and 11 transverse periods)
+/// resolves better than 1 %, the other modes the kick excites shift crossings
+/// by a fraction of a period at most.
+#[test]
+fn free_vibration_shows_the_predicted_frequencies() {
+    let p = two_pulley(120);
+    let mut drive: Drive = adapter::build(&p).expect("valid drive");
+    let lin = adapter::linearise(&drive);
+    let m = analyse(&lin, &Options::default()).expect("eigen-solve");
+    let f_rot = m
+        .modes
+        .iter()
+        .find(|x| matches!(x.part, Part::PulleyRotation(_)))
+        .expect("rotational mode")
+        .frequency_hz;
+    let f_span = of(&m, Part::SpanTransverse(1))[0].frequency_hz;
+    // perturb
+    let mut y = adapter::state(&drive).to_vec();
+    let (_, w1) = lin.pulley(0);
+    let (_, w2) = lin.pulley(1);
+    y[w1] += 0.5 / p.pulleys[0].radius * 0.1;
+    y[w2] -= 0.5 / p.pulleys[1].radius * 0.1;
+    let regions = belt_drive::modes::regions(&lin);
+    let span: Vec<usize> = (0..lin.n)
+        .filter(|&i| regions[i] == belt_drive::modes::Region::Span(0))
+        .collect();
+    let mid = span[span.len() / 2];
+    let normal = |i: usize| {
+        let phi = lin.y[lin.body(i, 2)];
+        [-phi.sin(), phi.cos()]
+    };
+    for (k, &i) in span.iter().enumerate() {
+        let s = (k as f64 + 0.5) / span.len() as f64;
+        let a = 0.05 * (std::f64::consts::PI * s).sin();
+        let nv = normal(i);
+        y[lin.body(i, 3)] += a * nv[0];
+        y[lin.body(i, 4)] += a * nv[1];
+    }
+    adapter::set_state(&mut drive, &y).expect("state fits");
+    let dt = 2e-5;
+    let steps = 10_000;
+    let n_mid = normal(mid);
+    let (x0, y0) = (y[lin.body(mid, 0)], y[lin.body(mid, 1)]);
+    let mut omega = Vec::with_capacity(steps);
+    let mut trans = Vec::with_capacity(steps);
+    for s in 1..=steps {
+        adapter::run_to(&mut drive, s as f64 * dt).expect("run");
+        let st = adapter::state(&drive);
+        omega.push(st[w1]);
+        trans.push((st[lin.body(mid, 0)] - x0) * n_mid[0] + (st[lin.body(mid, 1)] - y0) * n_mid[1]);
+    }
+    let win = |f: f64| (1.0 / (f * dt)).round() as usize;
+    let f_rot_t = zero_crossing_frequency(&omega, dt, win(f_rot));
+    let f_span_t = zero_crossing_frequency(&trans, dt, win(f_span));
+    eprintln!(
+        "rotational: predicted {f_rot:.2} Hz, time domain {f_rot_t:.2} Hz; span 1 transverse: \
+         predicted {f_span:.2} Hz, time domain {f_span_t:.2} Hz"
+    );
+    assert!((f_rot_t / f_rot - 1.0).abs() < 0.05);
+    assert!((f_span_t / f_span - 1.0).abs() < 0.05);
+}
