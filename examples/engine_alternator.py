@@ -14,7 +14,10 @@ alternator model, exchanging speeds and torques every communication step.
   drive takes from the crank (the FMU output pulley[c].driveTorque).
 * Alternator (this file): load torque from speed, drag plus the electrical
   power P_el / (eta w) above the cut-in speed (linear below it); fed to the
-  FMU's torque input of the alternator pulley.
+  FMU's torque input of the alternator pulley. With a decoupler on that
+  pulley (parameters/accessory-drive-decoupler.ssv) the torque input acts on
+  the rotor, and the load follows the rotor's speed (pulley[a].rotor.omega,
+  the pulley's speed without a decoupler).
 
 Each step [t, t + h]: the engine speed goes to pulley[c].omegaRef with the
 engine's acceleration as input derivative, the alternator torque to
@@ -147,6 +150,8 @@ def simulate(stop_time=1.0, step=1e-3, parameters=ROOT / "parameters/accessory-d
     engine, alt = Engine(ramp_time=ramp_time), Alternator()
     names = {
         "crank.omega": f"{c}.omega", "alternator.omega": f"{a}.omega",
+        "alternator.rotorOmega": f"{a}.rotor.omega", "alternator.beltTorque": f"{a}.beltTorque",
+        "alternator.decouplerTorque": f"{a}.decoupler.torque",
         "crank.driveTorque": f"{c}.driveTorque", "belt.minTension": "belt.minTension",
         **{f"span[{k}].tension": f"span[{k}].tension" for k in range(1, n + 1)},
         **{f"pulley[{j}].hubForce.{x}": f"pulley[{j}].hubForce.{x}"
@@ -155,12 +160,19 @@ def simulate(stop_time=1.0, step=1e-3, parameters=ROOT / "parameters/accessory-d
     out_vrs = [vr[v] for v in names.values()]
     rows = []
     steps = int(round(stop_time / step))
+    decoupler = bool(start.get(f"{a}.decoupler", False))
+    w_rotor_prev = 0.0
     try:
         for i in range(steps + 1):
             t = i * step
             values = dict(zip(names, fmu2.getReal(out_vrs)))
-            w_alt = values["alternator.omega"]
-            alpha_alt = fmu2.getRealOutputDerivatives([vr[f"{a}.omega"]], [1])[0]
+            w_alt = values["alternator.rotorOmega"]
+            if decoupler:
+                # the rotor's speed has no output derivative: backward difference
+                alpha_alt = (w_alt - w_rotor_prev) / step if i > 0 else 0.0
+                w_rotor_prev = w_alt
+            else:
+                alpha_alt = fmu2.getRealOutputDerivatives([vr[f"{a}.omega"]], [1])[0]
             t_alt, dt_dw = alt.torque(w_alt)
             belt_torque = values["crank.driveTorque"]
             rows.append({"time": t, "engine.omega": engine.w, "engine.gasTorque":

@@ -15,6 +15,7 @@
 mod abi;
 
 use std::collections::BTreeMap;
+use std::f64::consts::PI;
 use std::ffi::c_int;
 use std::time::{Duration, Instant};
 
@@ -144,6 +145,22 @@ fn scenarios() -> Vec<(&'static str, Vec<(&'static str, Value)>)> {
         // Found by this fuzzer: was "belt.nBodies: no body length fits".
         ("pulley 1e300 m away", vec![("pulley[2].y", Real(1e300))]),
         ("huge pulley", vec![("pulley[2].radius", Real(1e300))]),
+        // a 1 deg groove would multiply mu by 115
+        (
+            "groove of 1 deg",
+            vec![("pulley[1].grooveAngle", Real(0.0175))],
+        ),
+        (
+            "groove of 180 deg",
+            vec![("pulley[1].grooveAngle", Real(PI))],
+        ),
+        (
+            "40 deg grooves on both pulleys",
+            vec![
+                ("pulley[1].grooveAngle", Real(0.698)),
+                ("pulley[2].grooveAngle", Real(0.698)),
+            ],
+        ),
     ]
 }
 

@@ -92,3 +92,42 @@ fn accessory_drive_lays_out_and_runs() {
     let o = d.outputs();
     assert!(o.min_tension > 0.0, "{}", o.min_tension);
 }
+
+/// The decoupler version of the accessory drive: the same drive as
+/// accessory-drive-4 but for the flat-pulley friction coefficients (which
+/// the 40 deg grooves raise back to 1.05 / 0.99 within rounding), the idler's
+/// flat friction, and the alternator's inertia split between hub and rotor
+/// behind a decoupler.
+#[test]
+fn accessory_drive_with_decoupler_matches_the_plain_one() {
+    let base = apply("accessory-drive-4.ssv").drive_params().unwrap();
+    let p = apply("accessory-drive-decoupler.ssv")
+        .drive_params()
+        .unwrap();
+    p.validate().unwrap();
+    for (j, (a, b)) in base.pulleys.iter().zip(&p.pulleys).enumerate() {
+        assert_eq!(
+            (a.x, a.y, a.radius, a.back_side),
+            (b.x, b.y, b.radius, b.back_side)
+        );
+        if !b.back_side {
+            let f = belt_drive::belt::elements::groove::friction_factor(b.groove_angle, false);
+            // 0.359 / sin 20 deg = 1.0496, 0.342 / sin 20 deg = 0.99994: the
+            // plain set's 1.05 and 1.0 to the three digits given
+            assert!(
+                (b.mu_static * f / a.mu_static - 1.0).abs() < 1e-3,
+                "pulley {j}"
+            );
+            assert!(
+                (b.mu_kinetic * f / a.mu_kinetic - 1.0).abs() < 1e-3,
+                "pulley {j}"
+            );
+        }
+    }
+    let alt = &p.pulleys[2];
+    assert!(alt.decoupler && alt.decoupler_clockwise);
+    assert!((alt.inertia + alt.rotor_inertia - base.pulleys[2].inertia).abs() < 1e-12);
+    let mut d = Drive::new(&p, 0.0).expect("lays out");
+    d.advance(1e-3).unwrap();
+    assert!(d.outputs().min_tension > 0.0);
+}

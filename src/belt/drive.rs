@@ -178,6 +178,11 @@ pub struct PulleyOutputs {
     /// 1 - v_j / v_1: surface speed loss relative to pulley 1.
     pub slip: f64,
     pub wrap_angle: f64,
+    /// Speed of the rotor behind a decoupler (the pulley's speed without
+    /// one) [rad/s], and the torque the decoupler's clutch transmits in its
+    /// driving sense (>= 0; 0 without one) [N m].
+    pub rotor_omega: f64,
+    pub decoupler_torque: f64,
 }
 
 /// Forces on the probe body from each pulley (Figs. 16-18).
@@ -199,6 +204,11 @@ pub struct Outputs {
     /// Slip across span k: 1 - v_{k+1} / v_k, surface speeds of consecutive
     /// pulleys (the last span closes the loop back to pulley 1).
     pub span_slip: [f64; MAX_PULLEYS],
+    /// Transverse deflection of the belt at the fixed mid-point of span k
+    /// from the straight common tangent of the mounted path [m], positive
+    /// to the left of the travel from pulley k to k+1, and its rate [m/s].
+    pub span_mid_deflection: [f64; MAX_PULLEYS],
+    pub span_mid_deflection_rate: [f64; MAX_PULLEYS],
     pub min_tension: f64,
     pub max_tension: f64,
     pub probe: ProbeOutputs,
@@ -251,6 +261,11 @@ impl Recorder for OutputRecorder<'_> {
         p.drive_torque = drive_torque;
         p.alpha = alpha;
     }
+    fn decoupler(&mut self, j: usize, torque: f64, rotor_omega: f64) {
+        let p = &mut self.out.pulleys[j];
+        p.decoupler_torque = torque;
+        p.rotor_omega = rotor_omega;
+    }
     fn power(&mut self, _input: f64, dissipated: f64) {
         self.out.power_dissipated = dissipated;
     }
@@ -272,6 +287,8 @@ fn relax_into_equilibrium(sys: &BeltSystem, y: &mut [f64], max_steps: u64) {
         p.mu_k = 0.0;
         p.speed_driven = true;
         p.omega_ramp = 0.0;
+        // a decoupler's rotor stays at rest too
+        p.torque_ramp = 0.0;
     }
     relax.inputs = Inputs::default();
     // Contact mode of one body: stiffness dN/dp at the typical penetration.
@@ -313,6 +330,12 @@ fn relax_into_equilibrium(sys: &BeltSystem, y: &mut [f64], max_steps: u64) {
     let e = relax.energy_offset();
     y[e] = 0.0;
     y[e + 1] = 0.0;
+    for p in &relax.pulleys[..relax.np] {
+        if p.decoupler.is_some() {
+            y[p.decoupler_offset] = 0.0;
+            y[p.decoupler_offset + 1] = 0.0;
+        }
+    }
 }
 
 /// Step-count guard of the equilibrium relaxation.
@@ -529,6 +552,9 @@ impl Drive {
             let po = &mut out.pulleys[j];
             po.angle = self.y[o];
             po.omega = self.sys.pulley_speed(j, self.t, &self.y);
+            if self.sys.pulleys[j].decoupler.is_none() {
+                po.rotor_omega = po.omega;
+            }
             po.slip = if v1 != 0.0 {
                 1.0 - surface(j) / v1
             } else {
@@ -542,6 +568,12 @@ impl Drive {
                 0.0
             };
         }
+        for k in 0..np {
+            if let Some((d, rate)) = self.mid_deflection(k) {
+                out.span_mid_deflection[k] = d;
+                out.span_mid_deflection_rate[k] = rate;
+            }
+        }
         let e = self.sys.energy_offset();
         out.energy_input = self.y[e];
         out.energy_dissipated = self.y[e + 1];
@@ -549,6 +581,68 @@ impl Drive {
         out.kinetic_energy = kin;
         out.potential_energy = pot;
         out
+    }
+
+    /// Deflection and its rate at the fixed mid-point of the free span from
+    /// pulley k to k+1 (`Outputs::span_mid_deflection`). The belt's line is
+    /// the polygon through the body centres (straight in a straight span);
+    /// where it crosses the normal to the mounted common tangent through
+    /// the tangent's mid-point, the crossing's distance from the tangent is
+    /// the deflection; its rate is the exact time derivative of that
+    /// distance (the crossing point moves along the polygon). Of the two
+    /// strands of the loop that cross the normal, the nearer one is the
+    /// span's. None if the span has no free length.
+    fn mid_deflection(&self, k: usize) -> Option<(f64, f64)> {
+        let np = self.sys.np;
+        let next = (k + 1) % np;
+        let span = self.layout.span_between(k, next)?;
+        let (a, b) = if span.from == k {
+            (span.start, span.end)
+        } else {
+            (span.end, span.start)
+        };
+        let (lx, ly) = (b[0] - a[0], b[1] - a[1]);
+        let len = lx.hypot(ly);
+        if len <= 0.0 {
+            return None;
+        }
+        let (tx, ty) = (lx / len, ly / len);
+        let (nx, ny) = (-ty, tx);
+        let m = span.midpoint();
+        let n = self.sys.n;
+        let local = |i: usize| {
+            let o = BODY_DOF * i;
+            let (rx, ry) = (self.y[o] - m[0], self.y[o + 1] - m[1]);
+            let (vx, vy) = (self.y[o + 3], self.y[o + 4]);
+            // along, across, and their rates
+            (
+                rx * tx + ry * ty,
+                rx * nx + ry * ny,
+                vx * tx + vy * ty,
+                vx * nx + vy * ny,
+            )
+        };
+        let mut best: Option<(f64, f64)> = None;
+        let mut prev = local(n - 1);
+        for i in 0..n {
+            let cur = local(i);
+            let (s0, d0, ds0, dd0) = prev;
+            let (s1, d1, ds1, dd1) = cur;
+            prev = cur;
+            if (s0 <= 0.0) == (s1 <= 0.0) {
+                continue;
+            }
+            let den = s0 - s1;
+            let lam = s0 / den;
+            let d = d0 + lam * (d1 - d0);
+            if best.is_some_and(|(bd, _)| bd.abs() <= d.abs()) {
+                continue;
+            }
+            let lam_rate = (s0 * ds1 - s1 * ds0) / (den * den);
+            let rate = dd0 + lam_rate * (d1 - d0) + lam * (dd1 - dd0);
+            best = Some((d, rate));
+        }
+        best
     }
 
     /// Integrator data for a saved state, see [`restore`](Self::restore).

@@ -19,7 +19,7 @@
 use super::jacobian::{Jacobian, NEXT, PREV, SELF};
 use super::model::{BeltSystem, BODY_DOF};
 use super::params::MAX_PULLEYS;
-use nalgebra::{Matrix3, RowVector3, SMatrix, SVector, Vector3};
+use nalgebra::{Matrix2, Matrix3, RowVector3, SMatrix, SVector, Vector2, Vector3};
 
 /// The factors for a border of `NB` unknowns: body n-1 (3) and the free
 /// (torque-driven) pulleys. The border's size is a type parameter so that
@@ -45,6 +45,11 @@ pub struct Factors<const NB: usize> {
     /// Scratch: reduced right-hand sides.
     rv: Vec<Vector3<f64>>,
     bz: Vec<f64>,
+    /// Decoupler of pulley j, eliminated exactly: its unknowns (twist,
+    /// rotor speed) are A^-1 b + h x_hub, A = I - c J_dd its own block,
+    /// h = c A^-1 J_d,hub; `dec_ainv`, `dec_h`.
+    dec_ainv: [Matrix2<f64>; MAX_PULLEYS],
+    dec_h: [Vector2<f64>; MAX_PULLEYS],
 }
 
 /// `I - c J` factored; one variant per border size 3 + free pulleys.
@@ -159,6 +164,8 @@ impl<const NB: usize> Factors<NB> {
             perm: std::array::from_fn(|i| i),
             rv: vec![Vector3::zeros(); sys.n],
             bz: vec![0.0; sys.n],
+            dec_ainv: [Matrix2::zeros(); MAX_PULLEYS],
+            dec_h: [Vector2::zeros(); MAX_PULLEYS],
         }
     }
 
@@ -286,6 +293,24 @@ impl<const NB: usize> Factors<NB> {
                     }
                 }
                 g[(kj, kk)] = v;
+            }
+        }
+        // decouplers: eliminate twist and rotor speed; a free hub's diagonal
+        // gains -c (J_h,d h)
+        for j in 0..sys.np {
+            if sys.pulleys[j].decoupler.is_none() {
+                continue;
+            }
+            let d = &jac.dec[j];
+            let a = Matrix2::new(1.0 - c * d.tt, -c * d.tr, -c * d.rt, 1.0 - c * d.rr);
+            let Some(ainv) = a.try_inverse() else {
+                return false;
+            };
+            let h = ainv * Vector2::new(c * d.th, c * d.rh);
+            self.dec_ainv[j] = ainv;
+            self.dec_h[j] = h;
+            if let Some(kj) = self.slot[j] {
+                g[(kj, kj)] -= c * (d.ht * h[0] + d.hr * h[1]);
             }
         }
         // forward elimination over bodies 0..n-2
@@ -417,6 +442,20 @@ impl<const NB: usize> Factors<NB> {
             self.rv[i] = rv;
             (q_prev, q_self) = (q_self, q_next);
         }
+        // decouplers: their part of the hub rows' right-hand side
+        let mut dec_g = [Vector2::zeros(); MAX_PULLEYS];
+        for (j, g) in dec_g.iter_mut().enumerate().take(sys.np) {
+            if sys.pulleys[j].decoupler.is_none() {
+                continue;
+            }
+            let o = sys.pulleys[j].decoupler_offset;
+            let gv = self.dec_ainv[j] * Vector2::new(b[o], b[o + 1]);
+            *g = gv;
+            if let Some(k) = self.slot[j] {
+                let d = &jac.dec[j];
+                rw[k] += c * (d.ht * gv[0] + d.hr * gv[1]);
+            }
+        }
         // border solve: L U x = P rw
         let mut xb = SVector::<f64, NB>::zeros();
         for k in 0..NB {
@@ -442,6 +481,14 @@ impl<const NB: usize> Factors<NB> {
                 let o = sys.pulley_offset(j);
                 b[o + 1] = xb[k];
                 b[o] += c * xb[k];
+            }
+        }
+        for j in 0..sys.np {
+            if sys.pulleys[j].decoupler.is_some() {
+                let o = sys.pulleys[j].decoupler_offset;
+                let x = dec_g[j] + self.dec_h[j] * dw[j];
+                b[o] = x[0];
+                b[o + 1] = x[1];
             }
         }
         // 2. backward: velocities, then positions and creep of each body
@@ -506,7 +553,13 @@ pub(crate) mod tests {
 
     #[test]
     fn solves_like_dense_gaussian_elimination() {
-        for (speed_driven, three) in [(false, false), (true, false), (false, true)] {
+        for (speed_driven, three, dec) in [
+            (false, false, false),
+            (true, false, false),
+            (false, true, false),
+            (false, false, true),
+            (true, true, true),
+        ] {
             let mut p = DriveParams::kubas_section4();
             p.belt.n_bodies = 40;
             p.belt.preload = 300.0;
@@ -524,9 +577,23 @@ pub(crate) mod tests {
             }
             p.pulleys[0].speed_driven = speed_driven;
             p.probe_body = 0;
+            if dec {
+                // decouplers on a free hub and on hub 1 (speed-driven in one case)
+                p.pulleys[0].decoupler = true;
+                p.pulleys[1].decoupler = true;
+                p.pulleys[1].decoupler_clockwise = true;
+            }
             let d = Drive::new(&p, 0.0).unwrap();
             let sys = d.system();
             let mut y = d.state().to_vec();
+            for j in 0..2 {
+                if dec {
+                    // engaged on hub 1, overrunning on hub 2
+                    let o = sys.pulleys[j].decoupler_offset;
+                    y[o] = [0.05, 0.02][j];
+                    y[o + 1] = [-3.0, -40.0][j];
+                }
+            }
             for i in 0..sys.n {
                 let o = BODY_DOF * i;
                 y[o + 3] = 0.3 * (i as f64).sin();
@@ -555,7 +622,8 @@ pub(crate) mod tests {
                 for k in 0..dim {
                     assert!(
                         (x[k] - x_ref[k]).abs() <= 1e-8 * scale,
-                        "speed_driven {speed_driven}, 3 pulleys {three}, c {c:e}: x[{k}] = {} vs {}",
+                        "speed_driven {speed_driven}, 3 pulleys {three}, decouplers {dec}, c {c:e}: \
+                         x[{k}] = {} vs {}",
                         x[k],
                         x_ref[k]
                     );

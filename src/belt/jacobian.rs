@@ -44,6 +44,26 @@ pub struct BodyJacobian {
     pub touching: u8,
 }
 
+/// Derivatives of a decoupler's rows (twist rate, rotor acceleration) and
+/// of its hub's acceleration with respect to twist, hub speed and rotor
+/// speed (`elements::decoupler`). The hub's own d(alpha)/d(omega_hub) term
+/// is in `Jacobian::pw`. Zero where the hub is speed-driven (its speed is
+/// then an input, its acceleration prescribed).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct DecouplerJacobian {
+    /// d(twist')/d(twist, omega_hub, omega_rotor).
+    pub tt: f64,
+    pub th: f64,
+    pub tr: f64,
+    /// d(rotor alpha)/d(twist, omega_hub, omega_rotor).
+    pub rt: f64,
+    pub rh: f64,
+    pub rr: f64,
+    /// d(hub alpha)/d(twist, omega_rotor).
+    pub ht: f64,
+    pub hr: f64,
+}
+
 /// Block Jacobian of the whole belt drive.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Jacobian {
@@ -52,6 +72,8 @@ pub struct Jacobian {
     pub pw: [[f64; MAX_PULLEYS]; MAX_PULLEYS],
     /// Pulley j's speed is a state (torque-driven) rather than an input.
     pub free: [bool; MAX_PULLEYS],
+    /// Decoupler of pulley j (zero if it has none).
+    pub dec: [DecouplerJacobian; MAX_PULLEYS],
 }
 
 /// Index of the neighbour blocks in `aq`/`av`.
@@ -74,6 +96,7 @@ impl Jacobian {
             bodies: vec![BodyJacobian::default(); sys.n],
             pw: [[0.0; MAX_PULLEYS]; MAX_PULLEYS],
             free,
+            dec: [DecouplerJacobian::default(); MAX_PULLEYS],
         }
     }
 
@@ -97,7 +120,15 @@ impl Jacobian {
             f(&mut touching);
             b.touching = touching as u8;
         }
-        self.pw.iter_mut().flatten().for_each(f);
+        self.pw.iter_mut().flatten().for_each(&mut *f);
+        for d in &mut self.dec {
+            for v in [
+                &mut d.tt, &mut d.th, &mut d.tr, &mut d.rt, &mut d.rh, &mut d.rr, &mut d.ht,
+                &mut d.hr,
+            ] {
+                f(v);
+            }
+        }
     }
 
     /// Appends the stored numbers to `out`.
@@ -162,6 +193,18 @@ impl Jacobian {
             }
             for k in 0..sys.np {
                 set(o + 1, sys.pulley_offset(k) + 1, self.pw[j][k]);
+            }
+            if sys.pulleys[j].decoupler.is_some() {
+                let (d, dj) = (sys.pulleys[j].decoupler_offset, &self.dec[j]);
+                let h = o + 1;
+                set(d, d, dj.tt);
+                set(d, h, dj.th);
+                set(d, d + 1, dj.tr);
+                set(d + 1, d, dj.rt);
+                set(d + 1, h, dj.rh);
+                set(d + 1, d + 1, dj.rr);
+                set(h, d, dj.ht);
+                set(h, d + 1, dj.hr);
             }
         }
         m
@@ -372,11 +415,36 @@ impl BeltSystem {
                 }
             }
         }
-        // Pulley load damping (eq. 24, Fig. 13).
+        // Pulley load damping (eq. 24, Fig. 13), on the hub or, through a
+        // decoupler, on its rotor; the decoupler's terms.
         for j in 0..np {
             let pc = &self.pulleys[j];
+            let Some(dc) = &pc.decoupler else {
+                if !pc.speed_driven {
+                    jac.pw[j][j] += pc.balance_partials().0;
+                }
+                continue;
+            };
+            let d = pc.decoupler_offset;
+            let (twist, w_r) = (y[d], y[d + 1]);
+            let law = dc.law(twist, dc.relative_rate(omega_p[j], w_r));
+            let s = dc.sense;
+            // w = s (omega_h - omega_r): dw/d omega_h = s, dw/d omega_r = -s;
+            // the hub's torque is -s M, the rotor's +s M
+            let free = if pc.speed_driven { 0.0 } else { 1.0 };
+            let inv_r = pc.rotor_inv_inertia;
+            jac.dec[j] = DecouplerJacobian {
+                tt: law.rate_d_twist,
+                th: free * law.rate_d_rate * s,
+                tr: -law.rate_d_rate * s,
+                rt: s * law.torque_d_twist * inv_r,
+                rh: free * law.torque_d_rate * inv_r,
+                rr: (-law.torque_d_rate - pc.load_damping) * inv_r,
+                ht: free * -s * law.torque_d_twist * pc.inv_inertia,
+                hr: free * law.torque_d_rate * pc.inv_inertia,
+            };
             if !pc.speed_driven {
-                jac.pw[j][j] += pc.balance_partials().0;
+                jac.pw[j][j] -= law.torque_d_rate * pc.inv_inertia;
             }
         }
     }
@@ -421,10 +489,12 @@ mod tests {
         sys.jacobian(t, y, &mut jac);
         let dense = jac.to_dense(sys);
         let e_rows = sys.energy_offset();
+        // every state but the two energy accumulators
+        let states: Vec<usize> = (0..e_rows).chain(e_rows + 2..dim).collect();
         let (mut a, mut b) = (vec![0.0; dim], vec![0.0; dim]);
         let mut yp = y.to_vec();
         let mut checked = 0;
-        for c in 0..e_rows {
+        for &c in &states {
             // relative steps: positions ~0.1 m, velocities ~1 m/s, z ~1e-5 m
             let scale = if c < BODY_DOF * sys.n && c % BODY_DOF == 6 {
                 1e-11
@@ -436,13 +506,14 @@ mod tests {
             yp[c] = y[c] - scale;
             sys.rhs(t, &yp, &mut b, &mut NoRecord);
             yp[c] = y[c];
-            for r in 0..e_rows {
+            for &r in &states {
                 let fd = (a[r] - b[r]) / (2.0 * scale);
                 let an = dense[r * dim + c];
                 // tolerance relative to the row's largest entry (finite
                 // differences lose digits on the small ones)
-                let row_max = (0..e_rows)
-                    .map(|cc| dense[r * dim + cc].abs())
+                let row_max = states
+                    .iter()
+                    .map(|&cc| dense[r * dim + cc].abs())
                     .fold(0.0, f64::max);
                 assert!(
                     (fd - an).abs() <= 1e-5 * row_max + 1e-6 * an.abs().max(fd.abs()),
@@ -505,6 +576,38 @@ mod tests {
                 let y = running_state(&d, &[0.0, 3e-5, -7e-5, 1.2e-4, -1.3e-4, cap_creep]);
                 let cols = check(d.system(), 0.02, &y);
                 assert_eq!(cols, d.system().energy_offset());
+            }
+        }
+    }
+
+    /// The decoupler's rows and columns, on a torque-driven and on a
+    /// speed-driven hub, with the clutch engaged, in its band and
+    /// overrunning; the rest of the Jacobian stays right around it.
+    #[test]
+    fn jacobian_covers_the_decoupler() {
+        for speed_driven in [false, true] {
+            let mut p = drive(FrictionLaw::Creep, speed_driven).params().clone();
+            // hub 1 (speed-driven in the second case) and hub 2 (torque-driven)
+            for (j, cw) in [(0, true), (1, false)] {
+                p.pulleys[j].decoupler = true;
+                p.pulleys[j].decoupler_clockwise = cw;
+                p.pulleys[j].load_damping = 0.3;
+            }
+            let d = Drive::mounted(&p, 0.0).unwrap();
+            let sys = d.system();
+            assert_eq!(sys.n_decouplers, 2);
+            let base = running_state(&d, &[0.0, 3e-5, -7e-5]);
+            // hub speeds are -18 and -19 rad/s (running_state), or the
+            // prescription -20 rad/s; u = k twist + d w with k = 30, d = 0.02
+            for (twist, w_r) in [(0.1, -17.0), (1e-4, -18.0), (0.02, -40.0), (-0.01, 5.0)] {
+                let mut y = base.clone();
+                for j in 0..2 {
+                    let o = sys.pulleys[j].decoupler_offset;
+                    y[o] = twist * (1.0 + 0.1 * j as f64);
+                    y[o + 1] = w_r;
+                }
+                let cols = check(sys, 0.02, &y);
+                assert_eq!(cols, sys.dim() - 2);
             }
         }
     }

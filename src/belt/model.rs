@@ -5,10 +5,14 @@
 //! of the chain is banded):
 //! * body i: `[x, y, phi, vx, vy, omega, z]` at `7 i`, z = creep displacement;
 //! * pulley j: `[theta, omega]` at `7 n + 2 j`;
-//! * `[work_in, energy_dissipated]` last.
+//! * `[work_in, energy_dissipated]`;
+//! * per pulley with a decoupler, in pulley order: `[twist, rotor omega]`
+//!   (`elements::decoupler`).
 
 use super::elements::contact::{self, ContactLaw};
+use super::elements::decoupler::Decoupler;
 use super::elements::friction::Friction;
+use super::elements::groove::friction_factor;
 pub use super::elements::pulley::PulleyConst;
 use super::elements::sde::{self, AxialSde, BodyEnd, TorsionalSde};
 use super::layout::Layout;
@@ -45,6 +49,9 @@ pub trait Recorder {
     fn hub_force(&mut self, _pulley: usize, _fx: f64, _fy: f64) {}
     /// Per pulley: torque of the belt, torque a speed drive must supply, acceleration.
     fn pulley(&mut self, _pulley: usize, _belt_torque: f64, _drive_torque: f64, _alpha: f64) {}
+    /// Per decoupler pulley: the torque its clutch transmits (>= 0, in the
+    /// clutch's driving sense) and the rotor's speed.
+    fn decoupler(&mut self, _pulley: usize, _torque: f64, _rotor_omega: f64) {}
     fn power(&mut self, _input: f64, _dissipated: f64) {}
 }
 
@@ -58,6 +65,8 @@ impl Recorder for NoRecord {
 pub struct BeltSystem {
     pub n: usize,
     pub np: usize,
+    /// Pulleys with a decoupler (2 states each, after the energies).
+    pub n_decouplers: usize,
     pub pulleys: [PulleyConst; MAX_PULLEYS],
     pub half_length: f64,
     pub mass: f64,
@@ -418,6 +427,9 @@ impl BeltSystem {
         let b = &params.belt;
         let mass = b.mass_per_length * l;
         let inertia = mass * l * l / 12.0; // eq. 2
+        let n = b.n_bodies;
+        let np = params.pulleys.len();
+        let mut n_dec = 0;
         let mut pulleys = [PulleyConst::NONE; MAX_PULLEYS];
         for (pc, p) in pulleys.iter_mut().zip(&params.pulleys) {
             *pc = PulleyConst {
@@ -427,17 +439,26 @@ impl BeltSystem {
                 radius2: p.radius * p.radius,
                 inv_inertia: 1.0 / p.inertia,
                 inertia: p.inertia,
-                mu_s: p.mu_static,
-                mu_k: p.mu_kinetic,
+                // the groove's wedge effect (elements::groove)
+                mu_s: p.mu_static * friction_factor(p.groove_angle, p.back_side),
+                mu_k: p.mu_kinetic * friction_factor(p.groove_angle, p.back_side),
                 speed_driven: p.speed_driven,
                 load_damping: p.load_damping,
                 torque_ramp: p.torque_ramp,
                 omega_ramp: p.omega_ramp,
                 ramp_time: p.ramp_time,
+                decoupler: p.decoupler.then_some(Decoupler {
+                    stiffness: p.decoupler_stiffness,
+                    damping: p.decoupler_damping,
+                    sense: if p.decoupler_clockwise { -1.0 } else { 1.0 },
+                }),
+                rotor_inertia: p.rotor_inertia,
+                rotor_inv_inertia: 1.0 / p.rotor_inertia,
+                decoupler_offset: BODY_DOF * n + 2 * np + 2 + 2 * n_dec,
             };
+            n_dec += usize::from(p.decoupler);
         }
         let f = &params.friction;
-        let n = b.n_bodies;
         let mut zone_factor = vec![1.0; n];
         for k in 0..f.zone_bodies {
             zone_factor[(f.zone_start + k) % n] = f.zone_factor;
@@ -445,7 +466,8 @@ impl BeltSystem {
         let c = &params.contact;
         Self {
             n,
-            np: params.pulleys.len(),
+            np,
+            n_decouplers: n_dec,
             pulleys,
             half_length: 0.5 * l,
             mass,
@@ -477,7 +499,7 @@ impl BeltSystem {
     }
 
     pub fn dim(&self) -> usize {
-        BODY_DOF * self.n + 2 * self.np + 2
+        BODY_DOF * self.n + 2 * self.np + 2 + 2 * self.n_decouplers
     }
 
     pub fn pulley_offset(&self, j: usize) -> usize {
@@ -649,11 +671,36 @@ impl BeltSystem {
             } else {
                 0.0
             };
-            let bal = pc.balance(w, applied, belt_torque[j], prescribed);
-            dy[o + 1] = bal.alpha;
-            let (power_in, power_load) = pc.power(w, applied, &bal);
-            p_in += power_in;
-            p_diss += power_load;
+            let bal = if let Some(dc) = &pc.decoupler {
+                // The load and the applied torque act on the rotor behind
+                // the decoupler; the hub carries the clutch's -s M.
+                let d = pc.decoupler_offset;
+                let (twist, w_r) = (y[d], y[d + 1]);
+                let rel = dc.relative_rate(w, w_r);
+                let law = dc.law(twist, rel);
+                let m = dc.sense * law.torque;
+                let load = pc.load_damping * w_r;
+                dy[d] = law.twist_rate;
+                dy[d + 1] = (applied + m - load) * pc.rotor_inv_inertia;
+                let mut hub = *pc;
+                hub.load_damping = 0.0;
+                let bal = hub.balance(w, -m, belt_torque[j], prescribed);
+                dy[o + 1] = bal.alpha;
+                p_in += bal.drive * w + applied * w_r;
+                // the clutch's power M w less the spring's energy rate
+                p_diss += load * w_r + law.torque * rel - dc.stiffness * twist * law.twist_rate;
+                if R::ACTIVE {
+                    rec.decoupler(j, law.torque, w_r);
+                }
+                bal
+            } else {
+                let bal = pc.balance(w, applied, belt_torque[j], prescribed);
+                dy[o + 1] = bal.alpha;
+                let (power_in, power_load) = pc.power(w, applied, &bal);
+                p_in += power_in;
+                p_diss += power_load;
+                bal
+            };
             if R::ACTIVE {
                 rec.pulley(j, belt_torque[j], bal.drive, bal.alpha);
             }
@@ -922,8 +969,14 @@ impl BeltSystem {
             pot += self.bend.energy(wrap_angle(b[2] - q[2]));
         }
         for j in 0..self.np {
+            let pc = &self.pulleys[j];
             let w = y[self.pulley_offset(j) + 1];
-            kin += 0.5 * self.pulleys[j].inertia * w * w;
+            kin += 0.5 * pc.inertia * w * w;
+            if let Some(dc) = &pc.decoupler {
+                let d = pc.decoupler_offset;
+                kin += 0.5 * pc.rotor_inertia * y[d + 1] * y[d + 1];
+                pot += dc.energy(y[d]);
+            }
         }
         (kin, pot)
     }

@@ -6,6 +6,8 @@
 //! discrete spring-damper elements (SDEs) with the body length l, so a finer
 //! mesh models the same belt. See `docs/model.md`, "Parameters".
 
+use super::elements::groove::MIN_GROOVE_ANGLE;
+
 /// Number of pulley slots.
 pub const MAX_PULLEYS: usize = 6;
 
@@ -62,6 +64,22 @@ pub struct PulleyParams {
     pub mu_kinetic: f64,
     /// The belt's back touches this pulley (an idler outside the loop).
     pub back_side: bool,
+    /// Included angle 2 beta of the V-ribbed groove [rad], 0 = flat: the
+    /// ribs carry friction with mu / sin(beta); the belt's back on a
+    /// back-side idler stays flat (`elements::groove`).
+    pub groove_angle: f64,
+    /// A one-way decoupler sits between the hub (which the belt drives) and
+    /// a rotor; the load torque, input torque and load damping act on the
+    /// rotor (`elements::decoupler`).
+    pub decoupler: bool,
+    /// Decoupler spring [N m/rad] and damper [N m s/rad] (> 0).
+    pub decoupler_stiffness: f64,
+    pub decoupler_damping: f64,
+    /// The clutch drives the rotor clockwise (negative omega) instead of
+    /// counterclockwise.
+    pub decoupler_clockwise: bool,
+    /// Rotor moment of inertia [kg m^2].
+    pub rotor_inertia: f64,
     /// The pulley follows a prescribed speed instead of eq. 24.
     pub speed_driven: bool,
     /// Resistance torque -load_damping * omega [N m s/rad] (Fig. 13).
@@ -85,6 +103,12 @@ impl PulleyParams {
             mu_static: 1.05,
             mu_kinetic: 1.0,
             back_side: false,
+            groove_angle: 0.0,
+            decoupler: false,
+            decoupler_stiffness: 10.0,
+            decoupler_damping: 0.02,
+            decoupler_clockwise: false,
+            rotor_inertia: 3e-3,
             speed_driven: false,
             load_damping: 0.0,
             torque_ramp: 0.0,
@@ -268,6 +292,12 @@ impl DriveParams {
             mu_static: 0.8,
             mu_kinetic: 0.8,
             back_side: false,
+            groove_angle: 0.0,
+            decoupler: false,
+            decoupler_stiffness: 10.0,
+            decoupler_damping: 0.02,
+            decoupler_clockwise: false,
+            rotor_inertia: 3e-3,
             speed_driven: false,
             load_damping: 0.0,
             torque_ramp: 0.0,
@@ -465,6 +495,27 @@ impl DriveParams {
             finite(&n("torqueRamp"), p.torque_ramp)?;
             finite(&n("omegaRamp"), p.omega_ramp)?;
             positive(&n("rampTime"), p.ramp_time)?;
+            let g = p.groove_angle;
+            check(
+                g == 0.0 || (MIN_GROOVE_ANGLE..std::f64::consts::PI).contains(&g),
+                &n("grooveAngle"),
+                &format!(
+                    "0 (flat) or in [{MIN_GROOVE_ANGLE:.4}, pi) rad, i.e. 10..180 deg \
+                     (V-ribbed belts: 40 deg = 0.6981 rad)"
+                ),
+                g,
+            )?;
+            if p.decoupler {
+                positive(&n("decoupler.stiffness"), p.decoupler_stiffness)?;
+                check(
+                    p.decoupler_damping.is_finite() && p.decoupler_damping > 0.0,
+                    &n("decoupler.damping"),
+                    "finite and > 0 when pulley[j].decoupler is set (the spring \
+                     relaxes through it while the clutch overruns; e.g. 0.02 N m s/rad)",
+                    p.decoupler_damping,
+                )?;
+                positive(&n("rotor.inertia"), p.rotor_inertia)?;
+            }
         }
         Ok(())
     }

@@ -80,6 +80,10 @@ fn real_slot<'a>(p: &'a mut DriveParams, v: &VarInfo) -> Option<&'a mut f64> {
         Var::PulleyTorqueRamp => &mut p.pulleys[j].torque_ramp,
         Var::PulleyOmegaRamp => &mut p.pulleys[j].omega_ramp,
         Var::PulleyRampTime => &mut p.pulleys[j].ramp_time,
+        Var::PulleyGrooveAngle => &mut p.pulleys[j].groove_angle,
+        Var::PulleyDecouplerStiffness => &mut p.pulleys[j].decoupler_stiffness,
+        Var::PulleyDecouplerDamping => &mut p.pulleys[j].decoupler_damping,
+        Var::PulleyRotorInertia => &mut p.pulleys[j].rotor_inertia,
         _ => return None,
     })
 }
@@ -192,6 +196,8 @@ impl BeltDrive {
         Some(match v.var {
             Var::PulleySpeedDriven => &mut p.speed_driven,
             Var::PulleyBackSide => &mut p.back_side,
+            Var::PulleyDecoupler => &mut p.decoupler,
+            Var::PulleyDecouplerClockwise => &mut p.decoupler_clockwise,
             _ => return None,
         })
     }
@@ -217,11 +223,15 @@ impl BeltDrive {
             Var::PulleyHubForceY => p.hub_force[1],
             Var::PulleySlip => p.slip,
             Var::PulleyWrapAngle => p.wrap_angle,
+            Var::PulleyRotorOmega => p.rotor_omega,
+            Var::PulleyDecouplerTorque => p.decoupler_torque,
             Var::ProbeNormalForce => o.probe.normal_force[j],
             Var::ProbeFrictionForce => o.probe.friction_force[j],
             Var::ProbeSlipVelocity => o.probe.slip_velocity[j],
             Var::SpanTension => o.span_tension[j],
             Var::SpanSlip => o.span_slip[j],
+            Var::SpanMidDeflection => o.span_mid_deflection[j],
+            Var::SpanMidDeflectionRate => o.span_mid_deflection_rate[j],
             Var::BeltMinTension => o.min_tension,
             Var::BeltMaxTension => o.max_tension,
             Var::ProbeSdeForce => o.probe.sde_force,

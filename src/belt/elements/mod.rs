@@ -6,9 +6,19 @@
 //! * [`sde`]: translational and torsional spring-damper between bodies, eq. 20-23;
 //! * [`contact`]: penalty contact and the contact force with friction, eq. 4-11, 19;
 //! * [`friction`]: the friction coefficient of both laws, eq. 12-19 and ref. [11];
-//! * [`pulley`]: a pulley's drive and load, eq. 24.
+//! * [`pulley`]: a pulley's drive and load, eq. 24;
+//! * [`groove`]: the wedge factor of a V-ribbed groove on the friction
+//!   coefficient;
+//! * [`decoupler`]: the one-way decoupler between a pulley hub and its
+//!   rotor (torsion spring and damper in series with a one-way clutch);
+//! * [`tensioner`]: the pivot torque of an automatic tensioner arm (spring,
+//!   viscous damper, regularised Coulomb friction), not used by the
+//!   equations of motion (docs/model.md, "Not modelled").
 
 pub mod contact;
+pub mod decoupler;
 pub mod friction;
+pub mod groove;
 pub mod pulley;
 pub mod sde;
+pub mod tensioner;

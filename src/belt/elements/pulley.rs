@@ -4,6 +4,8 @@
 //! takes. The built-in start-up ramps of the torque and the speed are here
 //! too.
 
+use super::decoupler::Decoupler;
+
 /// Constant data of one pulley in the hot loop.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PulleyConst {
@@ -33,6 +35,14 @@ pub struct PulleyConst {
     pub omega_ramp: f64,
     /// Duration of the ramps [s].
     pub ramp_time: f64,
+    /// One-way decoupler between hub and rotor, if any (the load and the
+    /// applied torque then act on the rotor, `elements::decoupler`).
+    pub decoupler: Option<Decoupler>,
+    /// Rotor moment of inertia behind the decoupler [kg m^2] and its inverse.
+    pub rotor_inertia: f64,
+    pub rotor_inv_inertia: f64,
+    /// Offset of the decoupler's states [twist, rotor speed] in the state.
+    pub decoupler_offset: usize,
 }
 
 /// The result of eq. 24 for one pulley.
@@ -62,6 +72,10 @@ impl PulleyConst {
         torque_ramp: 0.0,
         omega_ramp: 0.0,
         ramp_time: 1.0,
+        decoupler: None,
+        rotor_inertia: 0.0,
+        rotor_inv_inertia: 0.0,
+        decoupler_offset: 0,
     };
 
     /// Eq. 24 at speed `w` with the applied torque `applied`, the belt's
