@@ -32,7 +32,19 @@ struct Variable {
     start: String,
     /// The variable's own unit, else that of its declared type.
     unit: String,
+    /// The variable's own `min` and `max`, else those of its declared type
+    /// (empty: none declared).
+    min: String,
+    max: String,
     declared_type: String,
+}
+
+/// Unit, min and max of a `SimpleType`.
+struct TypeInfo {
+    name: String,
+    unit: String,
+    min: String,
+    max: String,
 }
 
 /// What the documentation needs from the model description.
@@ -75,8 +87,8 @@ fn parse_model_description(xml: &str) -> Result<ModelInfo> {
     use quick_xml::events::Event;
     let mut reader = quick_xml::Reader::from_str(xml);
     let mut info = ModelInfo::default();
-    // SimpleType name -> unit of its type element.
-    let mut type_units: Vec<(String, String)> = Vec::new();
+    // Unit and range of each SimpleType.
+    let mut types: Vec<TypeInfo> = Vec::new();
     let mut simple_type: Option<String> = None;
     let mut current: Option<Variable> = None;
     loop {
@@ -122,11 +134,18 @@ fn parse_model_description(xml: &str) -> Result<ModelInfo> {
             }
             tag @ (b"Real" | b"Integer" | b"Boolean" | b"String" | b"Enumeration") => {
                 if let Some(name) = &simple_type {
-                    type_units.push((name.clone(), get(&a, "unit")));
+                    types.push(TypeInfo {
+                        name: name.clone(),
+                        unit: get(&a, "unit"),
+                        min: get(&a, "min"),
+                        max: get(&a, "max"),
+                    });
                 } else if let Some(v) = current.as_mut() {
                     v.ty = String::from_utf8_lossy(tag).into_owned();
                     v.start = get(&a, "start");
                     v.unit = get(&a, "unit");
+                    v.min = get(&a, "min");
+                    v.max = get(&a, "max");
                     v.declared_type = get(&a, "declaredType");
                 }
             }
@@ -134,8 +153,17 @@ fn parse_model_description(xml: &str) -> Result<ModelInfo> {
         }
     }
     for v in &mut info.variables {
-        if v.unit.is_empty() {
-            v.unit = get(&type_units, &v.declared_type);
+        let Some(t) = types.iter().find(|t| t.name == v.declared_type) else {
+            continue;
+        };
+        for (own, of_type) in [
+            (&mut v.unit, &t.unit),
+            (&mut v.min, &t.min),
+            (&mut v.max, &t.max),
+        ] {
+            if own.is_empty() {
+                own.clone_from(of_type);
+            }
         }
     }
     Ok(info)
@@ -147,7 +175,7 @@ fn variable_table(info: &ModelInfo, keep: impl Fn(&Variable) -> bool, with_start
     if with_start {
         html.push_str("<th>start</th>");
     }
-    html.push_str("<th>unit</th><th>description</th></tr>\n");
+    html.push_str("<th>unit</th><th>range</th><th>description</th></tr>\n");
     for v in info.variables.iter().filter(|v| keep(v)) {
         html.push_str(&format!(
             "<tr><td><code>{}</code></td><td>{}</td>",
@@ -163,13 +191,25 @@ fn variable_table(info: &ModelInfo, keep: impl Fn(&Variable) -> bool, with_start
             v.unit.clone()
         };
         html.push_str(&format!(
-            "<td>{}</td><td>{}</td></tr>\n",
+            "<td>{}</td><td>{}</td><td>{}</td></tr>\n",
             escape_html(&unit),
+            escape_html(&range(v)),
             escape_html(&v.description)
         ));
     }
     html.push_str("</table>\n");
     html
+}
+
+/// The declared range as the tables show it: `min … max`, `≥ min`, `≤ max`,
+/// or a dash when the model description declares none.
+fn range(v: &Variable) -> String {
+    match (v.min.as_str(), v.max.as_str()) {
+        ("", "") => "–".into(),
+        (min, "") => format!("≥ {min}"),
+        ("", max) => format!("≤ {max}"),
+        (min, max) => format!("{min} … {max}"),
+    }
 }
 
 /// Start value of a Real, Integer or Boolean variable as a number.
@@ -461,6 +501,7 @@ mod tests {
 <fmiModelDescription fmiVersion="2.0" modelName="M" guid="{x}" description="A &amp; B" version="1.2" license="MIT">
   <TypeDefinitions>
     <SimpleType name="Force"><Real quantity="Force" unit="N"/></SimpleType>
+    <SimpleType name="Mass"><Real quantity="Mass" unit="kg" min="0"/></SimpleType>
   </TypeDefinitions>
   <DefaultExperiment startTime="0" stopTime="2"/>
   <ModelVariables>
@@ -468,7 +509,10 @@ mod tests {
       <Real declaredType="Force" start="550"/>
     </ScalarVariable>
     <ScalarVariable name="n" valueReference="2" description="count" causality="parameter" variability="fixed">
-      <Integer start="150"/>
+      <Integer start="150" min="3" max="2000"/>
+    </ScalarVariable>
+    <ScalarVariable name="m" valueReference="4" description="mass" causality="parameter" variability="fixed">
+      <Real declaredType="Mass" start="1" max="5"/>
     </ScalarVariable>
     <ScalarVariable name="y" valueReference="3" description="out" causality="output">
       <Real unit="m"/>
@@ -493,15 +537,17 @@ mod tests {
                     v.ty.as_str(),
                     v.start.as_str(),
                     v.unit.as_str(),
+                    range(v),
                 )
             })
             .collect();
         assert_eq!(
             v,
             [
-                ("p", "Real", "550", "N"),
-                ("n", "Integer", "150", ""),
-                ("y", "Real", "", "m")
+                ("p", "Real", "550", "N", "–".to_string()),
+                ("n", "Integer", "150", "", "3 … 2000".to_string()),
+                ("m", "Real", "1", "kg", "0 … 5".to_string()),
+                ("y", "Real", "", "m", "–".to_string())
             ]
         );
     }
@@ -519,6 +565,8 @@ mod tests {
         let html = String::from_utf8(files[0].1.clone()).unwrap();
         assert!(html.contains("<h1>T</h1>"));
         assert!(html.contains("a &lt;force&gt;"));
+        assert!(html.contains("<th>unit</th><th>range</th>"));
+        assert!(html.contains("<td>3 … 2000</td>"));
         assert!(html.contains("<td>1.2</td>"));
         assert!(html.contains("startTime = 0, stopTime = 2"));
         assert!(!html.contains("<!--") && !html.contains("fmu:"));
