@@ -411,7 +411,8 @@ mod tests {
         rk.pi = pi;
         let mut y = [1.0, 1.0, 0.0];
         let mut t = 0.0;
-        rk.advance(&StabilityBound, &mut (), &mut t, &mut y, 2.0).unwrap();
+        rk.advance(&StabilityBound, &mut (), &mut t, &mut y, 2.0)
+            .unwrap();
         (rk.control.stats, y)
     }
 
@@ -444,15 +445,18 @@ mod tests {
     fn saved_controller_memory_reproduces_the_run() {
         let mut a = Rkf45::new(3, 1e-4, 1e-6, 1e-6, 10_000_000);
         let (mut ya, mut ta) = ([1.0, 1.0, 0.0], 0.0);
-        a.advance(&StabilityBound, &mut (), &mut ta, &mut ya, 0.5).unwrap();
+        a.advance(&StabilityBound, &mut (), &mut ta, &mut ya, 0.5)
+            .unwrap();
         let mut memory = Vec::new();
         a.save(&mut memory);
         let mut b = Rkf45::new(3, 1e-4, 1e-6, 1e-6, 10_000_000);
         assert!(b.load(&memory));
         b.control.h = a.control.h;
         let (mut yb, mut tb) = (ya, ta);
-        a.advance(&StabilityBound, &mut (), &mut ta, &mut ya, 1.0).unwrap();
-        b.advance(&StabilityBound, &mut (), &mut tb, &mut yb, 1.0).unwrap();
+        a.advance(&StabilityBound, &mut (), &mut ta, &mut ya, 1.0)
+            .unwrap();
+        b.advance(&StabilityBound, &mut (), &mut tb, &mut yb, 1.0)
+            .unwrap();
         assert_eq!(ya[0].to_bits(), yb[0].to_bits());
         assert!(!b.load(&[]) && !b.load(&[f64::NAN]) && !b.load(&[2.0]));
     }
