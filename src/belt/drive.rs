@@ -5,7 +5,7 @@ use super::elements::contact::smoothstep;
 use super::iteration_matrix::IterationMatrix;
 use super::jacobian::Jacobian;
 use super::layout::Layout;
-use super::model::{BeltSystem, Inputs, NoRecord, Recorder, BODY_DOF};
+use super::model::{BeltSystem, Inputs, NoRecord, Recorder, Relaxation, Workspace, BODY_DOF};
 use super::params::{DriveParams, Method, ParamError, MAX_PULLEYS};
 use super::rkf45::Rkf45;
 use super::rosenbrock::{Rosenbrock, StiffSystem};
@@ -13,12 +13,16 @@ use super::solver_params::TUNING;
 use super::stepping::{OdeSystem, Stats, StepControl, StepFailure};
 
 impl OdeSystem for BeltSystem {
+    type Workspace = Workspace;
     fn dim(&self) -> usize {
         BeltSystem::dim(self)
     }
+    fn workspace(&self) -> Workspace {
+        Workspace::new()
+    }
     #[inline]
-    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
-        BeltSystem::rhs(self, t, y, dy, &mut NoRecord);
+    fn rhs(&self, ws: &mut Workspace, t: f64, y: &[f64], dy: &mut [f64]) {
+        BeltSystem::rhs(self, ws, t, y, dy, &mut NoRecord);
     }
     fn after_step(&self, y: &mut [f64]) {
         BeltSystem::after_step(self, y);
@@ -107,13 +111,14 @@ impl Integrator {
     fn advance(
         &mut self,
         sys: &BeltSystem,
+        ws: &mut Workspace,
         t: &mut f64,
         y: &mut [f64],
         t_end: f64,
     ) -> Result<(), StepFailure> {
         match self {
-            Self::Rkf45(i) => i.advance(sys, t, y, t_end),
-            Self::Rosenbrock(i) => i.advance(sys, t, y, t_end),
+            Self::Rkf45(i) => i.advance(sys, ws, t, y, t_end),
+            Self::Rosenbrock(i) => i.advance(sys, ws, t, y, t_end),
         }
     }
 
@@ -288,22 +293,16 @@ impl Recorder for OutputRecorder<'_> {
 /// `max_steps` bounds the work in total (the solver's step-count guard, at
 /// most `RELAX_MAX_STEPS`); a relaxation cut short leaves the belt as far as
 /// it got.
-fn relax_into_equilibrium(sys: &BeltSystem, y: &mut [f64], max_steps: u64) {
-    let mut relax = sys.clone();
-    for p in relax.pulleys.iter_mut() {
-        p.mu_s = 0.0;
-        p.mu_k = 0.0;
-        p.speed_driven = true;
-        p.omega_ramp = 0.0;
-        // a decoupler's rotor stays at rest too
-        p.torque_ramp = 0.0;
-    }
-    relax.inputs = Inputs::default();
-    // the belt settles with every tensioner arm where it was placed
-    relax.hold_arms = true;
+fn relax_into_equilibrium(sys: &BeltSystem, ws: &mut Workspace, y: &mut [f64], max_steps: u64) {
     // Contact mode of one body: stiffness dN/dp at the typical penetration.
-    let k_contact = relax.contact.c2 + 2.0 * relax.contact.c1 * TUNING.relax_penetration;
-    relax.relax_damping = 2.0 * (k_contact / relax.mass).sqrt();
+    let k_contact = sys.contact.c2 + 2.0 * sys.contact.c1 * TUNING.relax_penetration;
+    // Friction off, the pulleys (and a decoupler's rotor, a tensioner's
+    // arm) held at rest.
+    let relax = sys.with_relaxation(Relaxation {
+        damping: 2.0 * (k_contact / sys.mass).sqrt(),
+        frictionless: true,
+        pulleys_held: true,
+    });
     // Relax over a few axial diffusion times of the damped belt, at least
     // ten contact periods; stop early once everything is at rest.
     const CHUNKS: u64 = TUNING.relax_chunks;
@@ -320,7 +319,7 @@ fn relax_into_equilibrium(sys: &BeltSystem, y: &mut [f64], max_steps: u64) {
     let chunk = 2.0 * period;
     for _ in 0..CHUNKS {
         let target = t + chunk;
-        if rk.advance(&relax, &mut t, y, target).is_err() {
+        if rk.advance(&relax, ws, &mut t, y, target).is_err() {
             break;
         }
         let v_max = (0..relax.n)
@@ -368,13 +367,13 @@ impl Recorder for HubRecorder {
 /// gets the free angle at which its torque balances the moment of the
 /// belt's hub force about the pivot, `-k (0 - alpha_free) + M_hub = 0`
 /// (`elements::tensioner::Arm::free_angle_for`).
-fn mount_arms(sys: &mut BeltSystem, t: f64, y: &[f64]) {
+fn mount_arms(sys: &mut BeltSystem, ws: &mut Workspace, t: f64, y: &[f64]) {
     if sys.n_arms == 0 {
         return;
     }
     let mut rec = HubRecorder([[0.0; 2]; MAX_PULLEYS]);
     let mut dy = vec![0.0; y.len()];
-    sys.rhs(t, y, &mut dy, &mut rec);
+    sys.rhs(ws, t, y, &mut dy, &mut rec);
     for (j, pc) in sys.pulleys[..sys.np].iter_mut().enumerate() {
         if let Some(arm) = pc.arm.as_mut() {
             let moment = arm.moment(y[pc.arm_offset], rec.0[j]).0;
@@ -387,7 +386,7 @@ fn mount_arms(sys: &mut BeltSystem, t: f64, y: &[f64]) {
 const RELAX_MAX_STEPS: u64 = TUNING.relax_max_steps;
 
 /// A belt drive ready to run.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct Drive {
     params: DriveParams,
     layout: Layout,
@@ -395,6 +394,8 @@ pub struct Drive {
     t: f64,
     y: Vec<f64>,
     integrator: Integrator,
+    /// Scratch of the right-hand side.
+    ws: Workspace,
     /// Scratch for recorded evaluations (outputs only).
     dy: Vec<f64>,
     tensions: Vec<f64>,
@@ -468,8 +469,13 @@ impl Drive {
     /// relaxes it into static equilibrium.
     pub fn new(params: &DriveParams, t0: f64) -> Result<Self, ParamError> {
         let mut drive = Self::mounted(params, t0)?;
-        relax_into_equilibrium(&drive.sys, &mut drive.y, params.solver.max_steps);
-        mount_arms(&mut drive.sys, drive.t, &drive.y);
+        relax_into_equilibrium(
+            &drive.sys,
+            &mut drive.ws,
+            &mut drive.y,
+            params.solver.max_steps,
+        );
+        mount_arms(&mut drive.sys, &mut drive.ws, drive.t, &drive.y);
         Ok(drive)
     }
 
@@ -496,6 +502,7 @@ impl Drive {
             t: t0,
             y,
             integrator,
+            ws: Workspace::new(),
             dy: vec![0.0; dim],
             tensions: vec![0.0; params.belt.n_bodies],
             warnings,
@@ -555,7 +562,7 @@ impl Drive {
     /// last good state (the time and state of the call).
     pub fn advance(&mut self, t_end: f64) -> Result<(), StepFailure> {
         self.integrator
-            .advance(&self.sys, &mut self.t, &mut self.y, t_end)
+            .advance(&self.sys, &mut self.ws, &mut self.t, &mut self.y, t_end)
     }
 
     /// All outputs at the current state.
@@ -577,7 +584,8 @@ impl Drive {
                 n_spans: np,
                 span_best: [f64::INFINITY; MAX_PULLEYS],
             };
-            self.sys.rhs(self.t, &self.y, &mut self.dy, &mut rec);
+            self.sys
+                .rhs(&mut self.ws, self.t, &self.y, &mut self.dy, &mut rec);
         }
         out.min_tension = self.tensions.iter().copied().fold(f64::INFINITY, f64::min);
         out.max_tension = self

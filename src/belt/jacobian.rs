@@ -16,7 +16,7 @@
 
 use super::elements::contact;
 use super::elements::sde::{self, BodyEnd};
-use super::model::{BeltSystem, BODY_DOF};
+use super::model::{BeltSystem, PulleyConst, BODY_DOF};
 use super::params::MAX_PULLEYS;
 use super::trig;
 use nalgebra::{Matrix2, Matrix3, RowVector3, SMatrix, Vector2, Vector3};
@@ -323,6 +323,8 @@ impl BeltSystem {
             *w = self.pulley_speed(j, t, y);
         }
         jac.pw = [[0.0; MAX_PULLEYS]; MAX_PULLEYS];
+        let mut buf = [PulleyConst::NONE; MAX_PULLEYS];
+        let pulleys = self.pulleys_in_effect(&mut buf);
         let (inv_m, inv_i) = (self.inv_mass, self.inv_inertia);
         let row_scale = [inv_m, inv_m, inv_i];
         // pulley centres and velocities; per arm: c'(alpha), c''(alpha)
@@ -343,7 +345,7 @@ impl BeltSystem {
                 lever[j] = Vector2::new(dc[0], dc[1]);
                 // c'' = -(c - pivot)
                 lever_rate[j] = -w * Vector2::new(c[0] - arm.pivot[0], c[1] - arm.pivot[1]);
-                inv_arm[j] = if self.hold_arms {
+                inv_arm[j] = if self.relaxation.pulleys_held {
                     0.0
                 } else {
                     1.0 / arm.inertia
@@ -380,7 +382,7 @@ impl BeltSystem {
             let mut fq = Matrix2::zeros();
             let mut fv = Matrix2::zeros();
             for j in 0..np {
-                let pc = &self.pulleys[j];
+                let pc = &pulleys[j];
                 let [cx, cy, cvx, cvy] = centre[j];
                 // velocity relative to the pulley centre (a tensioner's moves)
                 let v = [y[o + 3] - cvx, y[o + 4] - cvy];
@@ -558,17 +560,18 @@ impl BeltSystem {
             bc.aq[PREV] += blk(&kq, 3, 0);
             bc.av[PREV] += blk(&kv, 3, 0);
         }
-        if self.relax_damping != 0.0 {
+        let damping = self.relaxation.damping;
+        if damping != 0.0 {
             for b in jac.bodies.iter_mut() {
                 for r in 0..3 {
-                    b.av[SELF][(r, r)] -= self.relax_damping;
+                    b.av[SELF][(r, r)] -= damping;
                 }
             }
         }
         // Pulley load damping (eq. 24, Fig. 13), on the hub or, through a
         // decoupler, on its rotor; the decoupler's terms.
         for j in 0..np {
-            let pc = &self.pulleys[j];
+            let pc = &pulleys[j];
             let Some(dc) = &pc.decoupler else {
                 if !pc.speed_driven {
                     jac.pw[j][j] += pc.balance_partials().0;
@@ -616,7 +619,7 @@ impl BeltSystem {
 mod tests {
     use super::*;
     use crate::belt::drive::Drive;
-    use crate::belt::model::NoRecord;
+    use crate::belt::model::{NoRecord, Workspace};
     use crate::belt::params::{DriveParams, FrictionLaw, PulleyParams};
 
     /// A small two-pulley drive (r = 50 mm) with `n` bodies.
@@ -654,6 +657,7 @@ mod tests {
         // every state but the two energy accumulators
         let states: Vec<usize> = (0..e_rows).chain(e_rows + 2..dim).collect();
         let (mut a, mut b) = (vec![0.0; dim], vec![0.0; dim]);
+        let mut ws = Workspace::new();
         let mut yp = y.to_vec();
         let mut checked = 0;
         for &c in &states {
@@ -664,9 +668,9 @@ mod tests {
                 1e-8 * y[c].abs().max(1e-2)
             };
             yp[c] = y[c] + scale;
-            sys.rhs(t, &yp, &mut a, &mut NoRecord);
+            sys.rhs(&mut ws, t, &yp, &mut a, &mut NoRecord);
             yp[c] = y[c] - scale;
-            sys.rhs(t, &yp, &mut b, &mut NoRecord);
+            sys.rhs(&mut ws, t, &yp, &mut b, &mut NoRecord);
             yp[c] = y[c];
             for &r in &states {
                 let fd = (a[r] - b[r]) / (2.0 * scale);
