@@ -479,7 +479,7 @@ impl BeltSystem {
         let mut n_arms = 0;
         let n_dec_all = params.pulleys.iter().filter(|p| p.decoupler).count();
         let mut pulleys = [PulleyConst::NONE; MAX_PULLEYS];
-        for (pc, p) in pulleys.iter_mut().zip(&params.pulleys) {
+        for (j, (pc, p)) in pulleys.iter_mut().zip(&params.pulleys).enumerate() {
             *pc = PulleyConst {
                 cx: p.x,
                 cy: p.y,
@@ -490,6 +490,13 @@ impl BeltSystem {
                 // the groove's wedge effect (elements::groove)
                 mu_s: p.mu_static * friction_factor(p.groove_angle, p.back_side),
                 mu_k: p.mu_kinetic * friction_factor(p.groove_angle, p.back_side),
+                // the damping ramp: the user's contact.pMax, or from the
+                // wrap's equilibrium penetration (elements::contact)
+                inv_p_max: 1.0
+                    / contact::auto_p_max(
+                        params.contact.p_max,
+                        layout.wrap_of(j).map_or(0.0, |w| w.penetration),
+                    ),
                 speed_driven: p.speed_driven,
                 load_damping: p.load_damping,
                 torque_ramp: p.torque_ramp,
@@ -548,7 +555,6 @@ impl BeltSystem {
                 c1: c.c1 * l,
                 c2: c.c2 * l,
                 b: c.damping * l,
-                inv_p_max: 1.0 / c.p_max,
             },
             friction: Friction::new(f.law, f.dv, f.creep_max, f.creep_damping_time),
             zone_factor,
@@ -1351,6 +1357,7 @@ fn contact_arc(
         radius2,
         mu_s,
         mu_k,
+        inv_p_max,
         ..
     } = *pc;
     // the centre and its velocity: the contact sees the body's motion
@@ -1365,7 +1372,7 @@ fn contact_arc(
             radius,
             surface,
         );
-        let (normal, elastic) = law.normal_force(kin.p, kin.p_dot);
+        let (normal, elastic) = law.normal_force(kin.p, kin.p_dot, inv_p_max);
         let zf = zfs[i];
         let f = mu(kin.v_t, z, mu_s * zf, mu_k * zf) * normal; // eq. 19, along +tau
         let [fx, fy] = contact::force(&kin, normal, f);

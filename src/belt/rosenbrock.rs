@@ -33,8 +33,9 @@ pub trait StiffSystem: OdeSystem {
     /// Overwrites `b` with the solution x of `(I - c J) x = b`.
     fn solve(&self, jac: &Self::Jacobian, m: &mut Self::Matrix, b: &mut [f64]);
     /// Which components enter the error norm (1) and which not (0): those
-    /// that only carry the fast modes the method is meant to damp.
-    fn error_mask(&self, mask: &mut [f64]) {
+    /// that only carry the fast modes the method is meant to damp; weights
+    /// in between may depend on the relative tolerance `rel_tol`.
+    fn error_mask(&self, _rel_tol: f64, mask: &mut [f64]) {
         mask.fill(1.0);
     }
     /// Appends the Jacobian's numbers to `out` / reads them back (false if
@@ -185,7 +186,7 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
     pub fn new(sys: &Sys, rel_tol: f64, abs_tol: f64, h0: f64, max_steps: u64) -> Self {
         let dim = sys.dim();
         let mut mask = vec![1.0; dim];
-        sys.error_mask(&mut mask);
+        sys.error_mask(rel_tol, &mut mask);
         let controlled = mask.iter().filter(|&&m| m != 0.0).count().max(1);
         Self {
             mask,
