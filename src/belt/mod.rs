@@ -2,6 +2,8 @@
 //! K. Kubas (2014), sections 2.1-2.3. Nothing in here knows about FMI.
 //!
 //! * [`params`]: parameters, the paper's two drives, validation;
+//! * [`param_id`]: how errors and warnings name a parameter (an id, spelt
+//!   by whoever shows the message);
 //! * [`layout`]: belt path, body length for the preload, mounted bodies;
 //! * [`elements`]: the force laws, each once (spring-dampers, contact,
 //!   friction, pulley drive and load, V-groove, one-way decoupler) with
@@ -21,6 +23,7 @@ pub mod iteration_matrix;
 pub mod jacobian;
 pub mod layout;
 pub mod model;
+pub mod param_id;
 pub mod params;
 pub mod rkf45;
 pub mod rosenbrock;
