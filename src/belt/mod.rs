@@ -14,6 +14,8 @@
 //! * [`rkf45`]: the adaptive Runge-Kutta-Fehlberg 4(5) integrator;
 //! * [`jacobian`], [`iteration_matrix`], [`rosenbrock`]: the stiff
 //!   integrator (Rosenbrock-W ROS34PW2, analytic Jacobian, O(n) stage solve);
+//! * [`simd`]: the instruction set detected once, and the dispatch of the
+//!   vector kernels (the only `target_feature` code);
 //! * [`trig`]: branch-free sine, cosine and angle wrap for the vectorised loops;
 //! * [`drive`]: a drive that runs, with its outputs.
 
@@ -27,6 +29,7 @@ pub mod param_id;
 pub mod params;
 pub mod rkf45;
 pub mod rosenbrock;
+pub mod simd;
 pub mod solver_params;
 pub mod stepping;
 pub mod trig;
