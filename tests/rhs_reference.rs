@@ -100,7 +100,7 @@ fn reference_rhs<R: Recorder>(
             let (nx, ny) = (rx * inv, ry * inv);
             let p = pc.radius - dist;
             let p_dot = -(vx * nx + vy * ny);
-            let (normal, elastic) = s.contact().normal_force(p, p_dot);
+            let (normal, elastic) = s.contact().normal_force(p, p_dot, pc.inv_p_max);
             let (tx, ty) = (-ny, nx);
             let v_t = omega_p[j] * pc.radius - (vx * tx + vy * ty);
             let zf = s.zone_factor()[i];

@@ -1,7 +1,7 @@
 //! A simulated belt drive: parameters, mounted layout, state, integrator.
 //! This is the whole interface the FMI adapter uses.
 
-use super::elements::contact::smoothstep;
+use super::elements::contact::{smoothstep, AUTO_P_MAX_PER_PENETRATION};
 use super::iteration_matrix::IterationMatrix;
 use super::jacobian::Jacobian;
 use super::layout::Layout;
@@ -59,16 +59,21 @@ impl StiffSystem for BeltSystem {
     /// still rejected). With the creep law the body velocities carry those
     /// modes too, but also the creep velocities that set the slip: weight
     /// 1e-2 (1e-3 let the 5PK slip drift 5 % from RKF45's, 1e-2 0.3 %, for
-    /// 28 % more steps; docs/model.md). With `kubas2014` friction follows the
-    /// sliding velocity itself, and a step that jumps across the stick band
-    /// |v_T| < dv lands on the sliding branch, whose linearisation has no
-    /// friction slope: the velocities keep full weight.
-    fn error_mask(&self, mask: &mut [f64]) {
+    /// 28 % more steps; docs/model.md), and never looser than a relative
+    /// tolerance of 1e-2 on them: at relTol 1e-3 a weight of 1e-2 let the
+    /// steps lose the creep arcs (`SolverTuning::creep_velocity_max_rel_tol`).
+    /// With `kubas2014` friction follows the sliding velocity itself, and a
+    /// step that jumps across the stick band |v_T| < dv lands on the sliding
+    /// branch, whose linearisation has no friction slope: the velocities keep
+    /// full weight.
+    fn error_mask(&self, rel_tol: f64, mask: &mut [f64]) {
         const ANGLES: f64 = TUNING.weight_angles;
-        const CREEP_VELOCITIES: f64 = TUNING.weight_creep_velocities;
         mask.fill(1.0);
         let velocities = match self.friction.law {
-            super::params::FrictionLaw::Creep => CREEP_VELOCITIES,
+            super::params::FrictionLaw::Creep => TUNING
+                .weight_creep_velocities
+                .max(rel_tol / TUNING.creep_velocity_max_rel_tol)
+                .min(1.0),
             super::params::FrictionLaw::Kubas2014 => 1.0,
         };
         for body in mask[..BODY_DOF * self.n].chunks_exact_mut(BODY_DOF) {
@@ -365,39 +370,21 @@ pub struct Drive {
 /// paper's 5PK drive has 0.26, its section-3 drive as printed 6e-5).
 const WEAK_CONTACT_DAMPING: f64 = TUNING.weak_contact_damping;
 
-/// Loosest relative tolerance the stiff method is trusted with (docs/model.md,
-/// "Integrators": at 1e-3 the 5PK drive's steps lose the creep arcs).
-const STIFF_MAX_REL_TOL: f64 = TUNING.stiff_max_rel_tol;
-
 /// Parameter choices that are valid but make the drive behave badly, one
 /// message each, naming the parameter and the value to use instead.
 fn warnings(params: &DriveParams, layout: &Layout, sys: &BeltSystem) -> Vec<Message> {
     let mut out = Vec::new();
-    let s = &params.solver;
-    if s.method == Method::Rosenbrock && s.rel_tol > STIFF_MAX_REL_TOL {
-        out.push(msg![
-            Param::SolverRelTol,
-            format!(" = {:e} with ", s.rel_tol),
-            Part::Method(Method::Rosenbrock),
-            format!(
-                ": above {STIFF_MAX_REL_TOL:e} the stiff method's steps can lose the creep arcs \
-                 (the default drive slips grossly at 1e-3); use "
-            ),
-            Param::SolverRelTol,
-            format!(" <= {STIFF_MAX_REL_TOL:e}"),
-        ]);
-    }
     let c = &sys.contact;
     if c.b <= 0.0 {
         return out;
     }
-    let p_max = params.contact.p_max;
     let mut wraps: Vec<_> = layout.wraps.iter().collect();
     wraps.sort_by_key(|w| w.pulley);
     for w in wraps {
         let p0 = w.penetration;
-        let share = smoothstep(p0 / p_max);
-        let zeta = c.damping_ratio(p0, sys.mass);
+        let inv_p_max = sys.pulleys[w.pulley].inv_p_max;
+        let share = smoothstep(p0 * inv_p_max);
+        let zeta = c.damping_ratio(p0, sys.mass, inv_p_max);
         if zeta >= WEAK_CONTACT_DAMPING {
             continue;
         }
@@ -420,6 +407,9 @@ fn warnings(params: &DriveParams, layout: &Layout, sys: &BeltSystem) -> Vec<Mess
                 ),
             ]);
         } else {
+            // only a user's contact.pMax can be this long: the automatic
+            // one puts the full damping at the penetration
+            let p_max = params.contact.p_max;
             out.push(msg![
                 Param::ContactPMax,
                 format!(
@@ -434,7 +424,11 @@ fn warnings(params: &DriveParams, layout: &Layout, sys: &BeltSystem) -> Vec<Mess
                      traction; set "
                 ),
                 Param::ContactPMax,
-                format!(" to about 2 x the penetration ({:.1e} m)", 2.0 * p0),
+                format!(
+                    " to 0 (automatic: {AUTO_P_MAX_PER_PENETRATION} x each pulley's penetration, \
+                     here {:.1e} m)",
+                    AUTO_P_MAX_PER_PENETRATION * p0
+                ),
             ]);
         }
     }

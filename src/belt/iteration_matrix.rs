@@ -116,19 +116,21 @@ impl IterationMatrix {
 
     /// [`Self::factor`] built for `isa`.
     fn factor_with(&mut self, isa: Isa, sys: &BeltSystem, jac: &Jacobian, c: f64) -> bool {
-        simd::dispatch(
+        simd::dispatch_with(
             isa,
+            (self, sys, jac),
             #[inline(always)]
-            || each!(self, f => f.factor(sys, jac, c)),
+            |(m, sys, jac)| each!(m, f => f.factor(sys, jac, c)),
         )
     }
 
     /// [`Self::solve`] built for `isa`.
     fn solve_with(&mut self, isa: Isa, sys: &BeltSystem, jac: &Jacobian, b: &mut [f64]) {
-        simd::dispatch(
+        simd::dispatch_with(
             isa,
+            (self, sys, jac, b),
             #[inline(always)]
-            || each!(self, f => f.solve(sys, jac, b)),
+            |(m, sys, jac, b)| each!(m, f => f.solve(sys, jac, b)),
         );
     }
 }

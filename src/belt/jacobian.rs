@@ -222,10 +222,11 @@ impl BeltSystem {
 
     /// [`Self::jacobian`] built for `isa`.
     fn jacobian_with(&self, isa: Isa, t: f64, y: &[f64], jac: &mut Jacobian) {
-        simd::dispatch(
+        simd::dispatch_with(
             isa,
+            (self, y, jac),
             #[inline(always)]
-            || self.jacobian_impl(t, y, jac),
+            |(sys, y, jac)| sys.jacobian_impl(t, y, jac),
         );
     }
 
@@ -286,7 +287,8 @@ impl BeltSystem {
                 let cp = contact::force_partials(
                     &kin,
                     v,
-                    self.contact.normal_force_jac(kin.p, kin.p_dot),
+                    self.contact
+                        .normal_force_jac(kin.p, kin.p_dot, pc.inv_p_max),
                     self.friction
                         .coefficient_jac(kin.v_t, z, pc.mu_s * zf, pc.mu_k * zf),
                     pc.radius,
@@ -459,17 +461,20 @@ mod tests {
     use crate::belt::model::{NoRecord, Workspace};
     use crate::belt::params::{DriveParams, FrictionLaw, PulleyParams};
 
-    /// A small two-pulley drive (r = 50 mm) with `n` bodies.
+    /// A small two-pulley drive (r = 50 and 45 mm) with 36 bodies at 120 N
+    /// and the automatic contact damping ramp, which differs between the
+    /// pulleys (p_max = 12.9 and 14.1 um, half their penetrations).
     fn drive(law: FrictionLaw, speed_driven: bool) -> Drive {
-        let mut p = DriveParams::kubas_section4();
+        let mut p = DriveParams::default();
         p.belt.n_bodies = 36;
-        p.belt.preload = 300.0;
+        p.belt.preload = 120.0;
         p.friction.law = law;
         p.friction.dv = 1e-2;
         p.probe_body = 0;
         let mut p1 = PulleyParams::paper_5pk(0.0, 0.0);
         p1.radius = 0.05;
         let mut p2 = p1.clone();
+        p2.radius = 0.045;
         p2.x = 0.25;
         p2.load_damping = 0.3;
         p.pulleys = vec![p1, p2];
@@ -574,9 +579,33 @@ mod tests {
             for speed_driven in [false, true] {
                 let d = drive(law, speed_driven);
                 assert_eq!(d.system().friction.creep_max, 1e-4);
+                // each pulley its own automatic ramp, half its penetration
+                let sys = d.system();
+                for j in 0..2 {
+                    let p0 = d.layout().wrap_of(j).unwrap().penetration;
+                    assert_eq!(sys.pulleys[j].inv_p_max, 1.0 / (0.5 * p0));
+                }
+                assert_ne!(sys.pulleys[0].inv_p_max, sys.pulleys[1].inv_p_max);
                 // creep in the elastic range, in the softening range, at the
                 // cap (sliding), and zero (stick at v_T ~ 0 for kubas2014)
                 let y = running_state(&d, &[0.0, 3e-5, -7e-5, 1.2e-4, -1.3e-4, cap_creep]);
+                // one body per pulley onto the middle of its pulley's ramp
+                let mut y = y;
+                for (j, pc) in sys.pulleys[..2].iter().enumerate() {
+                    let i = (0..sys.n)
+                        .find(|&i| {
+                            let o = BODY_DOF * i;
+                            let r = Vector2::new(y[o] - pc.cx, y[o + 1] - pc.cy);
+                            r.norm_squared() < pc.radius2
+                        })
+                        .unwrap_or_else(|| panic!("a body on pulley {j}"));
+                    let o = BODY_DOF * i;
+                    let r = Vector2::new(y[o] - pc.cx, y[o + 1] - pc.cy);
+                    let on_ramp = Vector2::new(pc.cx, pc.cy)
+                        + r.normalize() * (pc.radius - 0.5 / pc.inv_p_max);
+                    y[o] = on_ramp.x;
+                    y[o + 1] = on_ramp.y;
+                }
                 let cols = check(d.system(), 0.02, &y);
                 assert_eq!(cols, d.system().energy_offset());
             }

@@ -338,7 +338,7 @@ impl BeltSystem {
         let np = params.pulleys.len();
         let mut n_dec = 0;
         let mut pulleys = [PulleyConst::NONE; MAX_PULLEYS];
-        for (pc, p) in pulleys.iter_mut().zip(&params.pulleys) {
+        for (j, (pc, p)) in pulleys.iter_mut().zip(&params.pulleys).enumerate() {
             *pc = PulleyConst {
                 cx: p.x,
                 cy: p.y,
@@ -349,6 +349,13 @@ impl BeltSystem {
                 // the groove's wedge effect (elements::groove)
                 mu_s: p.mu_static * friction_factor(p.groove_angle, p.back_side),
                 mu_k: p.mu_kinetic * friction_factor(p.groove_angle, p.back_side),
+                // the damping ramp: the user's contact.pMax, or from the
+                // wrap's equilibrium penetration (elements::contact)
+                inv_p_max: 1.0
+                    / contact::auto_p_max(
+                        params.contact.p_max,
+                        layout.wrap_of(j).map_or(0.0, |w| w.penetration),
+                    ),
                 speed_driven: p.speed_driven,
                 load_damping: p.load_damping,
                 torque_ramp: p.torque_ramp,
@@ -395,7 +402,6 @@ impl BeltSystem {
                 c1: c.c1 * l,
                 c2: c.c2 * l,
                 b: c.damping * l,
-                inv_p_max: 1.0 / c.p_max,
             },
             friction: Friction::new(f.law, f.dv, f.creep_max, f.creep_damping_time),
             zone_factor,
@@ -610,9 +616,9 @@ impl BeltSystem {
             isa,
             (ws, dy, rec),
             #[inline(always)]
-            |(ws, dy, rec)| self.rhs_impl::<R, false>(ws, t, y, dy, rec),
+            move |(ws, dy, rec)| self.rhs_impl::<R, false>(ws, t, y, dy, rec),
             #[inline(always)]
-            |(ws, dy, rec)| self.rhs_impl::<R, true>(ws, t, y, dy, rec),
+            move |(ws, dy, rec)| self.rhs_impl::<R, true>(ws, t, y, dy, rec),
         );
     }
 
@@ -1060,13 +1066,14 @@ fn contact_arc(
         radius2,
         mu_s,
         mu_k,
+        inv_p_max,
         ..
     } = *pc;
     let (law, friction) = (sys.contact, sys.friction);
     for i in 0..k {
         let z = zs[i];
         let kin = contact::kinematics([xs[i] - cx, ys[i] - cy], [vxs[i], vys[i]], radius, surface);
-        let (normal, elastic) = law.normal_force(kin.p, kin.p_dot);
+        let (normal, elastic) = law.normal_force(kin.p, kin.p_dot, inv_p_max);
         let zf = zfs[i];
         let f = mu(kin.v_t, z, mu_s * zf, mu_k * zf) * normal; // eq. 19, along +tau
         let [fx, fy] = contact::force(&kin, normal, f);

@@ -2,10 +2,8 @@
 //! warnings. The core knows no variable names of the FMU; the FMU layer
 //! (`crate::fmu`) turns an id into its variable's name from the table
 //! generated from the model description. A message is text with ids (and
-//! pulley and integrator references) in it, so that each layer can spell
+//! pulley references) in it, so that each layer can spell
 //! them its own way.
-
-use super::params::Method;
 
 /// A parameter of the drive. Pulley parameters carry the pulley's index
 /// (0-based, in the listed belt order).
@@ -121,8 +119,6 @@ pub enum Part {
     Param(Param),
     /// A pulley (0-based index).
     Pulley(usize),
-    /// An integrator choice ("which integrator is set").
-    Method(Method),
 }
 
 impl From<&str> for Part {
@@ -143,8 +139,7 @@ impl From<Param> for Part {
     }
 }
 
-/// A message of the core: text with parameters, pulleys and integrator
-/// choices in it, spelt by whoever shows it ([`Message::render`]).
+/// A message of the core: text with parameters and pulleys in it, spelt by whoever shows it ([`Message::render`]).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Message(pub Vec<Part>);
 
@@ -162,8 +157,6 @@ pub trait Spelling {
     fn param(&self, p: Param) -> String;
     /// A pulley's name (0-based index).
     fn pulley(&self, j: usize) -> String;
-    /// The choice of integrator `m`.
-    fn method(&self, m: Method) -> String;
 }
 
 /// The core's own spelling (engineering names, for Rust users).
@@ -176,12 +169,6 @@ impl Spelling for Plain {
     fn pulley(&self, j: usize) -> String {
         format!("pulley {}", j + 1)
     }
-    fn method(&self, m: Method) -> String {
-        match m {
-            Method::Rkf45 => "the RKF45 integrator".into(),
-            Method::Rosenbrock => "the stiff integrator".into(),
-        }
-    }
 }
 
 impl Message {
@@ -193,7 +180,6 @@ impl Message {
                 Part::Text(t) => out.push_str(t),
                 Part::Param(p) => out.push_str(&s.param(*p)),
                 Part::Pulley(j) => out.push_str(&s.pulley(*j)),
-                Part::Method(m) => out.push_str(&s.method(*m)),
             }
         }
         out

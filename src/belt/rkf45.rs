@@ -94,40 +94,44 @@ impl Rkf45 {
         let [k1, k2, k3, k4, k5, k6] = &mut self.k;
         let tmp = &mut self.tmp;
         sys.rhs(ws, t, y, k1);
-        simd::dispatch(
+        simd::dispatch_with(
             isa,
+            (&mut tmp[..], &k1[..]),
             #[inline(always)]
-            || {
+            move |(tmp, k1)| {
                 for i in 0..y.len() {
                     tmp[i] = y[i] + h * A2[0] * k1[i];
                 }
             },
         );
         sys.rhs(ws, t + C[1] * h, tmp, k2);
-        simd::dispatch(
+        simd::dispatch_with(
             isa,
+            (&mut tmp[..], &k1[..], &k2[..]),
             #[inline(always)]
-            || {
+            move |(tmp, k1, k2)| {
                 for i in 0..y.len() {
                     tmp[i] = y[i] + h * (A3[0] * k1[i] + A3[1] * k2[i]);
                 }
             },
         );
         sys.rhs(ws, t + C[2] * h, tmp, k3);
-        simd::dispatch(
+        simd::dispatch_with(
             isa,
+            (&mut tmp[..], &k1[..], &k2[..], &k3[..]),
             #[inline(always)]
-            || {
+            move |(tmp, k1, k2, k3)| {
                 for i in 0..y.len() {
                     tmp[i] = y[i] + h * (A4[0] * k1[i] + A4[1] * k2[i] + A4[2] * k3[i]);
                 }
             },
         );
         sys.rhs(ws, t + C[3] * h, tmp, k4);
-        simd::dispatch(
+        simd::dispatch_with(
             isa,
+            (&mut tmp[..], &k1[..], &k2[..], &k3[..], &k4[..]),
             #[inline(always)]
-            || {
+            move |(tmp, k1, k2, k3, k4)| {
                 for i in 0..y.len() {
                     tmp[i] =
                         y[i] + h * (A5[0] * k1[i] + A5[1] * k2[i] + A5[2] * k3[i] + A5[3] * k4[i]);
@@ -135,10 +139,11 @@ impl Rkf45 {
             },
         );
         sys.rhs(ws, t + C[4] * h, tmp, k5);
-        simd::dispatch(
+        simd::dispatch_with(
             isa,
+            (&mut tmp[..], &k1[..], &k2[..], &k3[..], &k4[..], &k5[..]),
             #[inline(always)]
-            || {
+            move |(tmp, k1, k2, k3, k4, k5)| {
                 for i in 0..y.len() {
                     tmp[i] = y[i]
                         + h * (A6[0] * k1[i]
@@ -152,10 +157,11 @@ impl Rkf45 {
         sys.rhs(ws, t + C[5] * h, tmp, k6);
         self.control.stats.rhs_evals += 6;
         let (abs_tol, rel_tol) = (self.abs_tol, self.rel_tol);
-        let sum = simd::dispatch(
+        let sum = simd::dispatch_with(
             isa,
+            (&mut tmp[..], &k1[..], &k3[..], &k4[..], &k5[..], &k6[..]),
             #[inline(always)]
-            || {
+            move |(tmp, k1, k3, k4, k5, k6)| {
                 let mut sum = 0.0;
                 for i in 0..y.len() {
                     let y5 = y[i]

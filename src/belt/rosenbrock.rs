@@ -34,8 +34,9 @@ pub trait StiffSystem: OdeSystem {
     /// Overwrites `b` with the solution x of `(I - c J) x = b`.
     fn solve(&self, jac: &Self::Jacobian, m: &mut Self::Matrix, b: &mut [f64]);
     /// Which components enter the error norm (1) and which not (0): those
-    /// that only carry the fast modes the method is meant to damp.
-    fn error_mask(&self, mask: &mut [f64]) {
+    /// that only carry the fast modes the method is meant to damp; weights
+    /// in between may depend on the relative tolerance `rel_tol`.
+    fn error_mask(&self, _rel_tol: f64, mask: &mut [f64]) {
         mask.fill(1.0);
     }
     /// Appends the Jacobian's numbers to `out` / reads them back (false if
@@ -186,7 +187,7 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
     pub fn new(sys: &Sys, rel_tol: f64, abs_tol: f64, h0: f64, max_steps: u64) -> Self {
         let dim = sys.dim();
         let mut mask = vec![1.0; dim];
-        sys.error_mask(&mut mask);
+        sys.error_mask(rel_tol, &mut mask);
         let controlled = mask.iter().filter(|&&m| m != 0.0).count().max(1);
         Self {
             mask,
@@ -298,27 +299,27 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
         }
         for i in 0..S {
             // stage state y + sum a_ij U_j
-            let (stage, u) = (&mut self.stage, &self.u);
-            simd::dispatch(
+            simd::dispatch_with(
                 isa,
+                (&mut self.stage[..], &self.u),
                 #[inline(always)]
-                || {
+                move |(stage, u)| {
                     stage.copy_from_slice(y);
                     for (j, uj) in u.iter().enumerate().take(i) {
                         axpy(T.a[i][j], uj, stage);
                     }
                 },
             );
-            sys.rhs(ws, t + T.alpha[i] * h, stage, &mut self.f);
+            sys.rhs(ws, t + T.alpha[i] * h, &self.stage, &mut self.f);
             self.control.stats.rhs_evals += 1;
             // right-hand side of (I - c J) U_i = c (f + sum c_ij/h U_j)
             let (done, rest) = self.u.split_at_mut(i);
             let ui = &mut rest[0];
-            let f = &self.f;
-            simd::dispatch(
+            simd::dispatch_with(
                 isa,
+                (&mut ui[..], &self.f[..], &*done),
                 #[inline(always)]
-                || {
+                move |(ui, f, done)| {
                     for (u, f) in ui.iter_mut().zip(f) {
                         *u = c * f;
                     }
@@ -332,12 +333,12 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
         // y1 = y + sum m_i U_i, error sum e_i U_i (stage increments s0..s3),
         // weighted RMS norm
         let [u0, u1, u2, u3] = &self.u;
-        let (stage, mask) = (&mut self.stage, &self.mask);
         let (abs_tol, rel_tol) = (self.abs_tol, self.rel_tol);
-        let sum = simd::dispatch(
+        let sum = simd::dispatch_with(
             isa,
+            (&mut self.stage[..], &self.mask[..], u0, u1, u2, u3),
             #[inline(always)]
-            || {
+            move |(stage, mask, u0, u1, u2, u3)| {
                 let mut sum = 0.0;
                 for (((((y1, &y0), &m), s0), s1), (s2, s3)) in stage
                     .iter_mut()

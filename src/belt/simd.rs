@@ -56,30 +56,32 @@ impl Isa {
 /// not use the AVX shuffles of this module (see [`dispatch_wide`]).
 #[inline(always)]
 pub fn dispatch<T>(isa: Isa, f: impl FnOnce() -> T) -> T {
+    dispatch_with(
+        isa,
+        (),
+        #[inline(always)]
+        |()| f(),
+    )
+}
+
+/// As [`dispatch`], with the kernel's data passed in `args` rather than
+/// captured: a closure that captures a `&mut` reaches its data through one
+/// more pointer, which can cost the optimiser its view of the data (the
+/// factorization measured 2 % more instructions that way).
+#[inline(always)]
+pub fn dispatch_with<A, T>(isa: Isa, args: A, f: impl FnOnce(A) -> T) -> T {
     match isa {
         #[cfg(target_arch = "x86_64")]
         Isa::Avx512 if isa.available() => {
             // SAFETY: the CPU has AVX-512F (checked above).
-            unsafe {
-                avx512(
-                    (),
-                    #[inline(always)]
-                    |()| f(),
-                )
-            }
+            unsafe { avx512(args, f) }
         }
         #[cfg(target_arch = "x86_64")]
         Isa::Avx2 if isa.available() => {
             // SAFETY: the CPU has AVX2 (checked above).
-            unsafe {
-                avx2(
-                    (),
-                    #[inline(always)]
-                    |()| f(),
-                )
-            }
+            unsafe { avx2(args, f) }
         }
-        _ => f(),
+        _ => f(args),
     }
 }
 
