@@ -53,6 +53,13 @@ pub enum Param {
     PulleyDecouplerStiffness(usize),
     PulleyDecouplerDamping(usize),
     PulleyRotorInertia(usize),
+    PulleyTensioner(usize),
+    PulleyArmPivotX(usize),
+    PulleyArmPivotY(usize),
+    PulleyArmInertia(usize),
+    PulleyArmStiffness(usize),
+    PulleyArmDamping(usize),
+    PulleyArmFriction(usize),
 }
 
 impl std::fmt::Display for Param {
@@ -106,6 +113,13 @@ impl std::fmt::Display for Param {
             PulleyDecouplerStiffness(j) => pulley(f, j, "decoupler stiffness"),
             PulleyDecouplerDamping(j) => pulley(f, j, "decoupler damping"),
             PulleyRotorInertia(j) => pulley(f, j, "rotor inertia"),
+            PulleyTensioner(j) => pulley(f, j, "tensioner"),
+            PulleyArmPivotX(j) => pulley(f, j, "tensioner pivot x"),
+            PulleyArmPivotY(j) => pulley(f, j, "tensioner pivot y"),
+            PulleyArmInertia(j) => pulley(f, j, "tensioner arm inertia"),
+            PulleyArmStiffness(j) => pulley(f, j, "tensioner spring stiffness"),
+            PulleyArmDamping(j) => pulley(f, j, "tensioner arm damping"),
+            PulleyArmFriction(j) => pulley(f, j, "tensioner pivot friction"),
         }
     }
 }

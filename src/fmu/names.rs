@@ -55,6 +55,13 @@ fn var_of(p: Param) -> (Var, usize) {
         PulleyDecouplerStiffness(j) => (Var::PulleyDecouplerStiffness, j),
         PulleyDecouplerDamping(j) => (Var::PulleyDecouplerDamping, j),
         PulleyRotorInertia(j) => (Var::PulleyRotorInertia, j),
+        PulleyTensioner(j) => (Var::PulleyTensioner, j),
+        PulleyArmPivotX(j) => (Var::PulleyArmPivotX, j),
+        PulleyArmPivotY(j) => (Var::PulleyArmPivotY, j),
+        PulleyArmInertia(j) => (Var::PulleyArmInertia, j),
+        PulleyArmStiffness(j) => (Var::PulleyArmStiffness, j),
+        PulleyArmDamping(j) => (Var::PulleyArmDamping, j),
+        PulleyArmFriction(j) => (Var::PulleyArmFriction, j),
     }
 }
 
@@ -183,6 +190,13 @@ mod tests {
                 PulleyDecouplerStiffness(j),
                 PulleyDecouplerDamping(j),
                 PulleyRotorInertia(j),
+                PulleyTensioner(j),
+                PulleyArmPivotX(j),
+                PulleyArmPivotY(j),
+                PulleyArmInertia(j),
+                PulleyArmStiffness(j),
+                PulleyArmDamping(j),
+                PulleyArmFriction(j),
             ]);
         }
         for p in ids {
