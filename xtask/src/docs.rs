@@ -402,9 +402,13 @@ pub fn documentation(xml: &str, manual: &str, docs: &Path) -> Result<Vec<(String
                 Some(variable_table(&info, |v| v.causality == "parameter", true))
             }
             "<!-- fmu:inputs -->" => Some(variable_table(&info, |v| v.causality == "input", true)),
-            "<!-- fmu:outputs -->" => {
-                Some(variable_table(&info, |v| v.causality == "output", false))
-            }
+            // outputs and the values the FMU calculates at initialization
+            // (calculated parameters, e.g. a tensioner spring's free angle)
+            "<!-- fmu:outputs -->" => Some(variable_table(
+                &info,
+                |v| v.causality == "output" || v.causality == "calculatedParameter",
+                false,
+            )),
             _ if t.starts_with("<!-- fmu:") => {
                 return Err(format!("docs/fmu-manual.md: unknown placeholder {t}"))
             }
