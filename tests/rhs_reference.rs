@@ -58,6 +58,8 @@ fn reference_rhs<R: Recorder>(
     }
     let mut belt_torque = [0.0; MAX_PULLEYS];
     let mut belt_torque_mag = [0.0; MAX_PULLEYS];
+    let mut hub = [[0.0f64; 2]; MAX_PULLEYS];
+    let mut hub_mag = [0.0f64; MAX_PULLEYS];
     let mut p_diss = 0.0;
     let mut p_diss_mag = 0.0;
 
@@ -112,6 +114,9 @@ fn reference_rhs<R: Recorder>(
             mag[o + 4] += normal.abs() + f.abs();
             belt_torque[j] -= pc.radius * f;
             belt_torque_mag[j] += (pc.radius * f).abs();
+            hub[j][0] -= cfx;
+            hub[j][1] -= cfy;
+            hub_mag[j] += normal.abs() + f.abs();
             dz += s.friction.creep_rate(v_t, z);
             mag[o + 6] += v_t.abs();
             let pd = (normal - elastic) * p_dot + f * v_t;
@@ -223,6 +228,16 @@ fn reference_rhs<R: Recorder>(
         if R::ACTIVE {
             rec.pulley(j, belt_torque[j], drive, alpha);
         }
+        // impulse states: belt torque, drive torque, hub force
+        let q = s.impulse_offset(j);
+        dy[q] = belt_torque[j];
+        dy[q + 1] = drive;
+        dy[q + 2] = hub[j][0];
+        dy[q + 3] = hub[j][1];
+        mag[q] = belt_torque_mag[j];
+        mag[q + 1] = t_mag;
+        mag[q + 2] = hub_mag[j];
+        mag[q + 3] = hub_mag[j];
     }
     let e = s.energy_offset();
     dy[e] = p_in;

@@ -13,13 +13,22 @@
 //! Positions never depend on anything but velocities (dq/dt = v), pulley
 //! angles only on pulley speeds; the energy accumulators are left out (the
 //! W-method keeps its order with an approximate Jacobian, see rosenbrock.rs).
+//!
+//! The impulse states (belt torque, drive torque and hub force of each
+//! pulley integrated over the communication step) have rows but no columns:
+//! nothing depends on them. Their rows are the exact partials of the
+//! integrated forces, so that the stiff method integrates the forces with
+//! the same linearisation that moves the pulleys: a fast contact motion it
+//! leaves unresolved at the step end then adds to the impulse only what it
+//! adds to the pulley's momentum (I omega + d theta - impulse of the applied
+//! torque = belt torque impulse holds for both, to the step's round-off).
 
 use super::elements::contact;
 use super::elements::sde::{self, BodyEnd};
 use super::model::{BeltSystem, BODY_DOF};
 use super::params::MAX_PULLEYS;
 use super::trig;
-use nalgebra::{Matrix2, Matrix3, RowVector3, SMatrix, Vector2, Vector3};
+use nalgebra::{Matrix2, Matrix3, RowVector2, RowVector3, SMatrix, Vector2, Vector3};
 
 /// Derivatives of one body's rows: accelerations (vx', vy', omega') and creep rate z'.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -40,6 +49,16 @@ pub struct BodyJacobian {
     pub pq: [RowVector3<f64>; MAX_PULLEYS],
     pub pv: [RowVector3<f64>; MAX_PULLEYS],
     pub pz: [f64; MAX_PULLEYS],
+    /// d(belt torque on pulley j)/d(this body's position, velocity, z): the
+    /// rows of the belt-torque impulse (all pulleys, speed-driven too).
+    pub tq: [RowVector2<f64>; MAX_PULLEYS],
+    pub tv: [RowVector2<f64>; MAX_PULLEYS],
+    pub tz: [f64; MAX_PULLEYS],
+    /// d(force on pulley j's hub)/d(this body's position, velocity, z): the
+    /// rows of the hub-force impulse.
+    pub hq: [Matrix2<f64>; MAX_PULLEYS],
+    pub hv: [Matrix2<f64>; MAX_PULLEYS],
+    pub hz: [Vector2<f64>; MAX_PULLEYS],
     /// Bit j set: the body touches pulley j (only those entries are non-zero).
     pub touching: u8,
 }
@@ -62,6 +81,10 @@ pub struct DecouplerJacobian {
     /// d(hub alpha)/d(twist, omega_rotor).
     pub ht: f64,
     pub hr: f64,
+    /// d(drive torque)/d(twist, omega_rotor) of a speed-driven hub (the
+    /// drive-torque impulse's row; zero on a torque-driven hub).
+    pub dt: f64,
+    pub dr: f64,
 }
 
 /// Block Jacobian of the whole belt drive.
@@ -74,6 +97,10 @@ pub struct Jacobian {
     pub free: [bool; MAX_PULLEYS],
     /// Decoupler of pulley j (zero if it has none).
     pub dec: [DecouplerJacobian; MAX_PULLEYS],
+    /// d(belt torque on pulley j)/d(omega_j) and d(hub force j)/d(omega_j),
+    /// torque-driven pulleys (a speed-driven pulley's speed is an input).
+    pub tw: [f64; MAX_PULLEYS],
+    pub hw: [Vector2<f64>; MAX_PULLEYS],
 }
 
 /// Index of the neighbour blocks in `aq`/`av`.
@@ -97,6 +124,8 @@ impl Jacobian {
             pw: [[0.0; MAX_PULLEYS]; MAX_PULLEYS],
             free,
             dec: [DecouplerJacobian::default(); MAX_PULLEYS],
+            tw: [0.0; MAX_PULLEYS],
+            hw: [Vector2::zeros(); MAX_PULLEYS],
         }
     }
 
@@ -116,6 +145,16 @@ impl Jacobian {
             for v in b.pq.iter_mut().chain(b.pv.iter_mut()) {
                 v.iter_mut().for_each(&mut *f);
             }
+            for v in b.tq.iter_mut().chain(b.tv.iter_mut()) {
+                v.iter_mut().for_each(&mut *f);
+            }
+            b.tz.iter_mut().for_each(&mut *f);
+            for m in b.hq.iter_mut().chain(b.hv.iter_mut()) {
+                m.iter_mut().for_each(&mut *f);
+            }
+            for v in &mut b.hz {
+                v.iter_mut().for_each(&mut *f);
+            }
             let mut touching = f64::from(b.touching);
             f(&mut touching);
             b.touching = touching as u8;
@@ -124,11 +163,65 @@ impl Jacobian {
         for d in &mut self.dec {
             for v in [
                 &mut d.tt, &mut d.th, &mut d.tr, &mut d.rt, &mut d.rh, &mut d.rr, &mut d.ht,
-                &mut d.hr,
+                &mut d.hr, &mut d.dt, &mut d.dr,
             ] {
                 f(v);
             }
         }
+        self.tw.iter_mut().for_each(&mut *f);
+        for v in &mut self.hw {
+            v.iter_mut().for_each(&mut *f);
+        }
+    }
+
+    /// The impulse rows applied to `x` (a full state vector): the rates of
+    /// belt torque, drive torque and hub force x, y of each pulley that the
+    /// linearisation gives for the state change `x` (`[pulley][4]`).
+    pub fn impulse_rows(&self, sys: &BeltSystem, x: &[f64]) -> [[f64; 4]; MAX_PULLEYS] {
+        let np = sys.np;
+        let mut torque = [0.0; MAX_PULLEYS];
+        let mut hub = [Vector2::zeros(); MAX_PULLEYS];
+        for (i, b) in self.bodies.iter().enumerate() {
+            if b.touching == 0 {
+                continue;
+            }
+            let o = BODY_DOF * i;
+            let (dq, dv, dz) = (
+                Vector2::new(x[o], x[o + 1]),
+                Vector2::new(x[o + 3], x[o + 4]),
+                x[o + 6],
+            );
+            for j in 0..np {
+                if b.touching & (1 << j) != 0 {
+                    torque[j] +=
+                        b.tq[j].dot(&dq.transpose()) + b.tv[j].dot(&dv.transpose()) + b.tz[j] * dz;
+                    hub[j] += b.hq[j] * dq + b.hv[j] * dv + b.hz[j] * dz;
+                }
+            }
+        }
+        let mut out = [[0.0; 4]; MAX_PULLEYS];
+        for j in 0..np {
+            let pc = &sys.pulleys[j];
+            if self.free[j] {
+                let dw = x[sys.pulley_offset(j) + 1];
+                torque[j] += self.tw[j] * dw;
+                hub[j] += self.hw[j] * dw;
+            }
+            // drive torque of a speed-driven pulley: prescribed terms less
+            // the belt's torque (and plus a decoupler's clutch torque)
+            let drive = if pc.speed_driven {
+                let mut d = -torque[j];
+                if pc.decoupler.is_some() {
+                    let o = pc.decoupler_offset;
+                    d += self.dec[j].dt * x[o] + self.dec[j].dr * x[o + 1];
+                }
+                d
+            } else {
+                0.0
+            };
+            out[j] = [torque[j], drive, hub[j].x, hub[j].y];
+        }
+        out
     }
 
     /// Appends the stored numbers to `out`.
@@ -207,6 +300,18 @@ impl Jacobian {
                 set(h, d + 1, dj.hr);
             }
         }
+        // impulse rows: the linear map applied to each unit vector
+        let mut e = vec![0.0; dim];
+        for col in 0..sys.controlled_dim() {
+            e[col] = 1.0;
+            let rows = self.impulse_rows(sys, &e);
+            e[col] = 0.0;
+            for (j, r) in rows.iter().enumerate().take(sys.np) {
+                for (k, v) in r.iter().enumerate() {
+                    set(sys.impulse_offset(j) + k, col, *v);
+                }
+            }
+        }
         m
     }
 }
@@ -241,6 +346,8 @@ impl BeltSystem {
             *w = self.pulley_speed(j, t, y);
         }
         jac.pw = [[0.0; MAX_PULLEYS]; MAX_PULLEYS];
+        jac.tw = [0.0; MAX_PULLEYS];
+        jac.hw = [Vector2::zeros(); MAX_PULLEYS];
         let (inv_m, inv_i) = (self.inv_mass, self.inv_inertia);
         let row_scale = [inv_m, inv_m, inv_i];
 
@@ -263,6 +370,12 @@ impl BeltSystem {
                 b.pq[j] = RowVector3::zeros();
                 b.pv[j] = RowVector3::zeros();
                 b.pz[j] = 0.0;
+                b.tq[j] = RowVector2::zeros();
+                b.tv[j] = RowVector2::zeros();
+                b.tz[j] = 0.0;
+                b.hq[j] = Matrix2::zeros();
+                b.hv[j] = Matrix2::zeros();
+                b.hz[j] = Vector2::zeros();
             }
             let x = [y[o], y[o + 1]];
             let v = [y[o + 3], y[o + 4]];
@@ -309,6 +422,19 @@ impl BeltSystem {
                     if free {
                         b.gw[j] += pc.radius;
                     }
+                }
+                // impulse rows: belt torque -r f, hub force -(N n + f t)
+                let r = pc.radius;
+                let tv2 = Vector2::new(tau[0], tau[1]);
+                b.tq[j] = -r * cp.fric_x;
+                b.tv[j] = -r * cp.fric_v;
+                b.tz[j] = -r * cp.fric_z;
+                b.hq[j] = -cp.f_x;
+                b.hv[j] = -cp.f_v;
+                b.hz[j] = -cp.fric_z * tv2;
+                if free {
+                    jac.tw[j] += -r * cp.fric_w;
+                    jac.hw[j] += -cp.fric_w * tv2;
                 }
                 // pulley torque -r f on the pulley's acceleration (eq. 24)
                 if free {
@@ -442,6 +568,8 @@ impl BeltSystem {
                 rr: (-law.torque_d_rate - pc.load_damping) * inv_r,
                 ht: free * -s * law.torque_d_twist * pc.inv_inertia,
                 hr: free * law.torque_d_rate * pc.inv_inertia,
+                dt: (1.0 - free) * s * law.torque_d_twist,
+                dr: (1.0 - free) * -law.torque_d_rate,
             };
             if !pc.speed_driven {
                 jac.pw[j][j] -= law.torque_d_rate * pc.inv_inertia;
@@ -482,7 +610,8 @@ mod tests {
 
     /// Compares the analytic Jacobian with central differences of the
     /// right-hand side, column by column (energy rows excluded: the W-method
-    /// leaves them out). Returns the number of columns checked.
+    /// leaves them out; the impulse rows included). Returns the number of
+    /// columns checked.
     fn check(sys: &BeltSystem, t: f64, y: &[f64]) -> usize {
         let dim = sys.dim();
         let mut jac = Jacobian::new(sys);
@@ -575,7 +704,7 @@ mod tests {
                 // cap (sliding), and zero (stick at v_T ~ 0 for kubas2014)
                 let y = running_state(&d, &[0.0, 3e-5, -7e-5, 1.2e-4, -1.3e-4, cap_creep]);
                 let cols = check(d.system(), 0.02, &y);
-                assert_eq!(cols, d.system().energy_offset());
+                assert_eq!(cols, d.system().dim() - 2);
             }
         }
     }

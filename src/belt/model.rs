@@ -7,7 +7,11 @@
 //! * pulley j: `[theta, omega]` at `7 n + 2 j`;
 //! * `[work_in, energy_dissipated]`;
 //! * per pulley with a decoupler, in pulley order: `[twist, rotor omega]`
-//!   (`elements::decoupler`).
+//!   (`elements::decoupler`);
+//! * per pulley: the impulses `[belt torque, drive torque, hub force x, hub
+//!   force y]` integrated since the start of the current communication step
+//!   (quadrature states: they feed nothing back and are left out of the
+//!   error control; their means over the step are outputs, see `drive.rs`).
 
 use super::elements::contact::{self, ContactLaw};
 use super::elements::decoupler::Decoupler;
@@ -23,6 +27,9 @@ use std::sync::{Mutex, TryLockError};
 
 /// Values per body in the state vector.
 pub const BODY_DOF: usize = 7;
+
+/// Impulse states per pulley: belt torque, drive torque, hub force x, y.
+pub const IMPULSES: usize = 4;
 
 /// Inputs held over a communication step: value at `t0` plus a rate (FMI
 /// input derivatives), so inputs ramp linearly within the step.
@@ -499,7 +506,19 @@ impl BeltSystem {
     }
 
     pub fn dim(&self) -> usize {
-        BODY_DOF * self.n + 2 * self.np + 2 + 2 * self.n_decouplers
+        self.impulse_offset(0) + IMPULSES * self.np
+    }
+
+    /// States whose error the integrators control: all but the impulses at
+    /// the end, which feed nothing back.
+    pub fn controlled_dim(&self) -> usize {
+        self.impulse_offset(0)
+    }
+
+    /// Offset of pulley j's impulses `[belt torque, drive torque, hub force
+    /// x, hub force y]` (after the decoupler states).
+    pub fn impulse_offset(&self, j: usize) -> usize {
+        BODY_DOF * self.n + 2 * self.np + 2 + 2 * self.n_decouplers + IMPULSES * j
     }
 
     pub fn pulley_offset(&self, j: usize) -> usize {
@@ -644,14 +663,25 @@ impl BeltSystem {
             *w = self.pulley_speed(j, t, y);
         }
         let mut belt_torque = [0.0; MAX_PULLEYS];
+        let mut hub = [[0.0; 2]; MAX_PULLEYS];
         let mut p_diss = 0.0;
 
         let mut i0 = 0;
         while i0 < n {
             let len = BLOCK.min(n - i0);
             let first = i0 == 0;
-            p_diss +=
-                self.block::<R, WIDE>(blk, i0, len, first, y, dy, &omega_p, &mut belt_torque, rec);
+            p_diss += self.block::<R, WIDE>(
+                blk,
+                i0,
+                len,
+                first,
+                y,
+                dy,
+                &omega_p,
+                &mut belt_torque,
+                &mut hub,
+                rec,
+            );
             i0 += len;
             if i0 < n {
                 blk.carry(len);
@@ -703,7 +733,13 @@ impl BeltSystem {
             };
             if R::ACTIVE {
                 rec.pulley(j, belt_torque[j], bal.drive, bal.alpha);
+                rec.hub_force(j, hub[j][0], hub[j][1]);
             }
+            let q = self.impulse_offset(j);
+            dy[q] = belt_torque[j];
+            dy[q + 1] = bal.drive;
+            dy[q + 2] = hub[j][0];
+            dy[q + 3] = hub[j][1];
         }
         let e = self.energy_offset();
         dy[e] = p_in;
@@ -727,6 +763,7 @@ impl BeltSystem {
         dy: &mut [f64],
         omega_p: &[f64; MAX_PULLEYS],
         belt_torque: &mut [f64; MAX_PULLEYS],
+        hub: &mut [[f64; 2]; MAX_PULLEYS],
         rec: &mut R,
     ) -> f64 {
         let n = self.n;
@@ -819,7 +856,7 @@ impl BeltSystem {
         let fr = self.friction;
         for (q, pc) in self.pulleys[..self.np].iter().enumerate() {
             let surface = omega_p[q] * pc.radius;
-            let (torque, diss) = if fr.law == FrictionLaw::Creep {
+            let (torque, diss, [fx, fy]) = if fr.law == FrictionLaw::Creep {
                 self.contacts(b, i0, len, q, surface, rec, move |v, z, ms, mk| {
                     fr.creep_coefficient(v, z, ms, mk)
                 })
@@ -829,6 +866,9 @@ impl BeltSystem {
                 })
             };
             belt_torque[q] -= torque; // eq. 24
+                                      // the hub carries what the contacts push on the bodies, reversed
+            hub[q][0] -= fx;
+            hub[q][1] -= fy;
             p_diss += diss;
         }
 
@@ -850,7 +890,7 @@ impl BeltSystem {
     /// with pulley `q` (surface speed `surface`), friction coefficient
     /// `mu(v_T, z, mu_s, mu_k)`: added to the bodies' own forces and creep
     /// rates. Returns the moment r f about the pulley's axis summed over the
-    /// contacts, and their power.
+    /// contacts, their power, and the force they exert on the bodies.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn contacts<R: Recorder>(
@@ -862,7 +902,7 @@ impl BeltSystem {
         surface: f64,
         rec: &mut R,
         mu: impl Fn(f64, f64, f64, f64) -> f64,
-    ) -> (f64, f64) {
+    ) -> (f64, f64, [f64; 2]) {
         let pc = &self.pulleys[q];
         // the bodies lo..hi span every body inside the circle (usually one
         // arc); the rest of the block is skipped
@@ -876,7 +916,7 @@ impl BeltSystem {
             hi = hi.max(if inside { j + 1 } else { 0 });
         }
         if lo >= hi {
-            return (0.0, 0.0);
+            return (0.0, 0.0, [0.0; 2]);
         }
         // columns of bodies lo..hi (separate slices: no aliasing, no bounds
         // checks, the loop vectorises)
@@ -912,11 +952,14 @@ impl BeltSystem {
                 let v = b.rec_q[j];
                 if v[6] != 0.0 {
                     rec.contact(i0 + j, q, v[0], v[1], v[2], v[3]);
-                    rec.hub_force(q, -v[4], -v[5]);
                 }
             }
         }
-        (sum(&b.torque_q[lo..hi]), sum(&b.diss_q[lo..hi]))
+        (
+            sum(&b.torque_q[lo..hi]),
+            sum(&b.diss_q[lo..hi]),
+            [sum(&b.cfx[lo..hi]), sum(&b.cfy[lo..hi])],
+        )
     }
 
     /// Discrete update after every accepted step: the creep displacement of a

@@ -115,6 +115,7 @@ impl Rkf45 {
         sys.rhs(t + C[5] * h, tmp, k6);
         self.control.stats.rhs_evals += 6;
         let mut sum = 0.0;
+        let controlled = sys.controlled_dim();
         for i in 0..y.len() {
             let y5 = y[i]
                 + h * (B5[0] * k1[i]
@@ -125,11 +126,11 @@ impl Rkf45 {
             let err =
                 h * (E[0] * k1[i] + E[2] * k3[i] + E[3] * k4[i] + E[4] * k5[i] + E[5] * k6[i]);
             let w = self.abs_tol + self.rel_tol * y[i].abs().max(y5.abs());
-            let e = err / w;
+            let e = if i < controlled { err / w } else { 0.0 };
             sum += e * e;
             tmp[i] = y5;
         }
-        (sum / y.len() as f64).sqrt()
+        (sum / controlled as f64).sqrt()
     }
 
     /// Integrates `y` from `*t` to exactly `t_end`. On failure `y` and `*t`
