@@ -7,10 +7,11 @@ use super::*;
 use crate::belt::drive::Window;
 use crate::belt::rkf45::Stats;
 
-/// 2: integrator data (the stiff method's kept Jacobian) after the state.
-/// 3: the impulse states (mean force outputs) in the state, the window
-/// they average over after it.
-const VERSION: u32 = 3;
+/// 2: integrator data (the stiff method's kept Jacobian) after the state;
+/// 3: the tensioner springs' free angles found by the mounting after that;
+/// 4: the impulse states (mean force outputs) in the state, the window they
+/// average over after it.
+pub(super) const VERSION: u32 = 4;
 
 struct Writer<'a>(&'a mut Vec<u8>);
 impl Writer<'_> {
@@ -115,6 +116,7 @@ pub fn write(m: &BeltDrive, out: &mut Vec<u8>) {
             w.f64(window.start);
             w.f64s(&window.omega_change);
             w.f64s(&d.integrator_data());
+            w.f64s(&d.arm_free_angles());
         }
     }
 }
@@ -125,7 +127,7 @@ pub fn read(bytes: &[u8]) -> Result<BeltDrive, String> {
     if version != VERSION {
         return Err(format!(
             "model state version {version} is not supported (expected {VERSION}): it was \
-             saved by another version of BeltDrive; save the state again with this one"
+             saved by another version of BeltDrive; rerun the simulation to that time instead"
         ));
     }
     let mut m = BeltDrive::new();
@@ -177,6 +179,10 @@ pub fn read(bytes: &[u8]) -> Result<BeltDrive, String> {
             let data = r.f64s_any()?;
             if !drive.restore(t, &y, window, inputs, h, stats, &data) {
                 return Err("model state's integrator data does not fit the parameters".into());
+            }
+            let free = r.f64s(drive.arm_free_angles().len())?;
+            if !drive.set_arm_free_angles(&free) {
+                return Err("model state holds non-finite tensioner free angles".into());
             }
             m.drive = Some(drive);
         }
