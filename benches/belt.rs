@@ -34,8 +34,9 @@
 //! `valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*rhs_loop*' <bench binary> count-rhs 150 2000`.
 
 mod common;
-use belt_drive::belt::model::{NoRecord, SimdBuild, Workspace};
+use belt_drive::belt::model::{NoRecord, Workspace};
 use belt_drive::belt::params::Method;
+use belt_drive::belt::simd::Isa as SimdBuild;
 use belt_drive::belt::{Drive, DriveParams, FrictionLaw, Inputs, Outputs};
 use common::{cpu_time, median};
 
@@ -463,7 +464,8 @@ fn main() {
         match a.as_str() {
             "--method" => {
                 let code = it.next().and_then(|s| s.parse().ok()).unwrap_or(0);
-                opts.method = Method::from_code(code).expect("--method: a solver.method code");
+                opts.method =
+                    belt_drive::fmu::names::method(code).expect("--method: a solver.method code");
             }
             "--quick" => opts.quick = true,
             "--rtol" => opts.rtols = Some(numbers(it.next(), "--rtol: comma-separated tolerances")),
@@ -651,7 +653,7 @@ mod fmu {
     pub fn bench_fmu(o: Opts) {
         let t_end = if o.quick { 0.01 } else { 0.2 };
         let api = load();
-        let method = o.method as i32;
+        let method = belt_drive::fmu::names::method_code(o.method);
         println!(
             "## FMU overhead (default drive through the C API, method {:?})",
             o.method

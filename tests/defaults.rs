@@ -122,7 +122,11 @@ fn run(
     Run {
         averages,
         steps: d.stats().steps,
-        warnings: d.warnings().to_vec(),
+        warnings: d
+            .warnings()
+            .iter()
+            .map(belt_drive::fmu::names::render)
+            .collect(),
     }
 }
 

@@ -20,10 +20,9 @@
 //! magnitude larger than either.
 
 use belt_drive::belt::elements::tensioner::FRICTION_RATE;
-use belt_drive::belt::model::{
-    BeltSystem, Inputs, Recorder, Relaxation, SimdBuild, Workspace, BODY_DOF,
-};
+use belt_drive::belt::model::{BeltSystem, Inputs, Recorder, Relaxation, Workspace, BODY_DOF};
 use belt_drive::belt::params::{PulleyParams, MAX_PULLEYS};
+use belt_drive::belt::simd::Isa;
 use belt_drive::belt::{Drive, DriveParams, FrictionLaw};
 use std::collections::BTreeMap;
 use std::f64::consts::TAU;
@@ -388,7 +387,7 @@ fn compare(sys: &BeltSystem, t: f64, y: &[f64], label: &str) -> Exercised {
     );
     // Every build of the same code the CPU can run (baseline SSE2, AVX2,
     // AVX-512) gives the same bits as the one the dispatch picked.
-    for build in [SimdBuild::Baseline, SimdBuild::Avx2, SimdBuild::Avx512] {
+    for build in [Isa::Baseline, Isa::Avx2, Isa::Avx512] {
         let mut dy_build = vec![f64::NAN; dim];
         let ran = sys.rhs_build(
             build,
@@ -398,7 +397,7 @@ fn compare(sys: &BeltSystem, t: f64, y: &[f64], label: &str) -> Exercised {
             &mut dy_build,
             &mut belt_drive::belt::model::NoRecord,
         );
-        assert!(ran || build != SimdBuild::Baseline);
+        assert!(ran || build != Isa::Baseline);
         if !ran {
             continue;
         }
