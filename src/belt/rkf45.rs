@@ -44,8 +44,11 @@ const E: [f64; 6] = [
 ];
 
 #[derive(Clone, Debug, PartialEq)]
+/// The RKF45 integrator: tolerances, step control and work vectors.
 pub struct Rkf45 {
+    /// Relative error tolerance.
     pub rel_tol: f64,
+    /// Absolute error tolerance.
     pub abs_tol: f64,
     /// Step size, counters and work guard.
     pub control: StepControl,
@@ -54,6 +57,7 @@ pub struct Rkf45 {
 }
 
 impl Rkf45 {
+    /// An integrator for `dim` states, first step `h0`, at most `max_steps` steps per call.
     pub fn new(dim: usize, rel_tol: f64, abs_tol: f64, h0: f64, max_steps: u64) -> Self {
         Self {
             rel_tol,
