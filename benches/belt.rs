@@ -18,7 +18,7 @@
 //! * `fmu`: the default drive stepped at 1 ms communication steps through
 //!   the C API against one long doStep over the same horizon;
 //! * `scaling`: cost per body per simulated second from 60 to 1200 bodies;
-//! * `default`: the default drive over 0-0.4 s at its default tolerance;
+//! * `default`: the FMU's default drive (`DriveParams::default()`) over 0-0.4 s at its default tolerance;
 //! * `all`: everything (takes tens of minutes).
 //!
 //! `--method N` sets `solver.method` (1 = RKF45) for the integrator runs.
@@ -305,7 +305,9 @@ fn bench_accuracy(o: Opts) {
 /// default tolerance (before/after comparisons).
 fn bench_default(o: Opts) {
     let horizon = if o.quick { 0.02 } else { 0.4 };
-    let mut p = DriveParams::kubas_section4();
+    // the FMU's default drive: the paper's section-4 drive with the
+    // automatic contact damping ramp
+    let mut p = DriveParams::default();
     o.apply(&mut p);
     let c0 = cpu_time();
     let mut d = Drive::new(&p, 0.0).expect("valid drive");
