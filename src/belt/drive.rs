@@ -190,8 +190,11 @@ pub struct PulleyOutputs {
     /// Means over the last communication step (see [`Window`]): belt torque
     /// and drive torque [N m], force on the hub [N], acceleration [rad/s2].
     pub mean_belt_torque: f64,
+    /// Mean drive torque [N m].
     pub mean_drive_torque: f64,
+    /// Mean force on the hub [N].
     pub mean_hub_force: [f64; 2],
+    /// Mean acceleration [rad/s2].
     pub mean_alpha: f64,
     /// 1 - v_j / v_1: surface speed loss relative to pulley 1.
     pub slip: f64,

@@ -57,12 +57,16 @@ pub struct BodyJacobian {
     /// d(belt torque on pulley j)/d(this body's position, velocity, z): the
     /// rows of the belt-torque impulse (all pulleys, speed-driven too).
     pub tq: [RowVector2<f64>; MAX_PULLEYS],
+    /// d(belt torque on pulley j)/d(this body's velocity).
     pub tv: [RowVector2<f64>; MAX_PULLEYS],
+    /// d(belt torque on pulley j)/d(this body's z).
     pub tz: [f64; MAX_PULLEYS],
     /// d(force on pulley j's hub)/d(this body's position, velocity, z): the
     /// rows of the hub-force impulse.
     pub hq: [Matrix2<f64>; MAX_PULLEYS],
+    /// d(force on pulley j's hub)/d(this body's velocity).
     pub hv: [Matrix2<f64>; MAX_PULLEYS],
+    /// d(force on pulley j's hub)/d(this body's z).
     pub hz: [Vector2<f64>; MAX_PULLEYS],
     /// Bit j set: the body touches pulley j (only those entries are non-zero).
     pub touching: u8,
@@ -94,6 +98,7 @@ pub struct DecouplerJacobian {
     /// d(drive torque)/d(twist, omega_rotor) of a speed-driven hub (the
     /// drive-torque impulse's row; zero on a torque-driven hub).
     pub dt: f64,
+    /// d(drive torque)/d(omega_rotor).
     pub dr: f64,
 }
 
@@ -118,8 +123,11 @@ pub struct ArmJacobian {
     /// d(belt torque on the pulley)/d(arm angle, arm rate) and d(force on its
     /// hub)/d(arm angle, arm rate): the impulse rows' arm columns.
     pub ta: f64,
+    /// d(belt torque on the pulley)/d(arm rate).
     pub tr: f64,
+    /// d(force on the hub)/d(arm angle).
     pub fa: Vector2<f64>,
+    /// d(force on the hub)/d(arm rate).
     pub fr: Vector2<f64>,
 }
 
@@ -158,6 +166,7 @@ pub struct Jacobian {
     /// d(belt torque on pulley j)/d(omega_j) and d(hub force j)/d(omega_j),
     /// torque-driven pulleys (a speed-driven pulley's speed is an input).
     pub tw: [f64; MAX_PULLEYS],
+    /// d(hub force j)/d(omega_j).
     pub hw: [Vector2<f64>; MAX_PULLEYS],
     /// Tensioner arm of pulley j (zero if it has none).
     pub arm: [ArmJacobian; MAX_PULLEYS],

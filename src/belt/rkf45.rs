@@ -82,8 +82,11 @@ pub struct Rkf45 {
 /// [`SolverTuning::rkf45_beta1`](super::solver_params::SolverTuning::rkf45_beta1).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PiControl {
+    /// Exponent of the current error.
     pub beta1: f64,
+    /// Exponent of the previous accepted error.
     pub beta2: f64,
+    /// Scaled error the controller aims at.
     pub target_error: f64,
 }
 
