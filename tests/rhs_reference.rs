@@ -101,7 +101,9 @@ fn reference_rhs<R: Recorder>(
             let p_dot = -(vx * nx + vy * ny);
             let (normal, elastic) = s.contact.normal_force(p, p_dot);
             let (tx, ty) = (-ny, nx);
-            let v_t = omega_p[j] * pc.radius - (vx * tx + vy * ty);
+            // the pulley's friction lever (the chain's pitch radius, a constant
+            // of the drive: contact::chordal_lever)
+            let v_t = omega_p[j] * pc.lever - (vx * tx + vy * ty);
             let zf = s.zone_factor[i];
             let mu = s.friction.coefficient(v_t, z, pc.mu_s * zf, pc.mu_k * zf);
             let f = mu * normal;
@@ -110,8 +112,8 @@ fn reference_rhs<R: Recorder>(
             fy += cfy;
             mag[o + 3] += normal.abs() + f.abs();
             mag[o + 4] += normal.abs() + f.abs();
-            belt_torque[j] -= pc.radius * f;
-            belt_torque_mag[j] += (pc.radius * f).abs();
+            belt_torque[j] -= pc.lever * f;
+            belt_torque_mag[j] += (pc.lever * f).abs();
             dz += s.friction.creep_rate(v_t, z);
             mag[o + 6] += v_t.abs();
             let pd = (normal - elastic) * p_dot + f * v_t;

@@ -275,7 +275,7 @@ impl BeltSystem {
                     [x[0] - pc.cx, x[1] - pc.cy],
                     v,
                     pc.radius,
-                    omega_p[j] * pc.radius,
+                    omega_p[j] * pc.lever,
                 );
                 if kin.d2 >= pc.radius2 {
                     continue;
@@ -288,7 +288,7 @@ impl BeltSystem {
                     self.contact.normal_force_jac(kin.p, kin.p_dot),
                     self.friction
                         .coefficient_jac(kin.v_t, z, pc.mu_s * zf, pc.mu_k * zf),
-                    pc.radius,
+                    pc.lever,
                 );
                 fq += cp.f_x;
                 fv += cp.f_v;
@@ -307,12 +307,12 @@ impl BeltSystem {
                     b.gv[0] += cp.vt_v[0];
                     b.gv[1] += cp.vt_v[1];
                     if free {
-                        b.gw[j] += pc.radius;
+                        b.gw[j] += pc.lever;
                     }
                 }
-                // pulley torque -r f on the pulley's acceleration (eq. 24)
+                // pulley torque -r_c f on the pulley's acceleration (eq. 24)
                 if free {
-                    let k = -pc.radius * pc.balance_partials().1;
+                    let k = -pc.lever * pc.balance_partials().1;
                     b.pq[j] = RowVector3::new(k * cp.fric_x[0], k * cp.fric_x[1], 0.0);
                     b.pv[j] = RowVector3::new(k * cp.fric_v[0], k * cp.fric_v[1], 0.0);
                     b.pz[j] = k * cp.fric_z;
@@ -554,7 +554,7 @@ mod tests {
                     let nrm = r.normalize();
                     let tau = perp(nrm);
                     let w = sys.pulley_speed(j, 0.02, &y);
-                    let v = (w * pc.radius - 3e-3) * tau + 0.01 * nrm;
+                    let v = (w * pc.lever - 3e-3) * tau + 0.01 * nrm;
                     y[o + 3] = v.x;
                     y[o + 4] = v.y;
                 }

@@ -17,6 +17,10 @@ pub struct PulleyConst {
     pub radius: f64,
     /// r_p^2 [m^2].
     pub radius2: f64,
+    /// Lever of the friction on the pulley, r_c [m]: its surface speed is
+    /// omega r_c and a friction force f turns it by r_c f
+    /// (`contact::chordal_lever`: the chain of bodies runs at r_p).
+    pub lever: f64,
     /// 1 / J [1/(kg m^2)].
     pub inv_inertia: f64,
     /// Moment of inertia J [kg m^2].
@@ -63,6 +67,7 @@ impl PulleyConst {
         cy: 0.0,
         radius: 0.0,
         radius2: 0.0,
+        lever: 0.0,
         inv_inertia: 0.0,
         inertia: 0.0,
         mu_s: 0.0,
