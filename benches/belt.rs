@@ -34,7 +34,7 @@
 //! `valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*rhs_loop*' <bench binary> count-rhs 150 2000`.
 
 mod common;
-use belt_drive::belt::model::{NoRecord, SimdBuild};
+use belt_drive::belt::model::{NoRecord, SimdBuild, Workspace};
 use belt_drive::belt::params::Method;
 use belt_drive::belt::{Drive, DriveParams, FrictionLaw, Inputs, Outputs};
 use common::{cpu_time, median};
@@ -81,12 +81,13 @@ fn running_drive(n: usize) -> Drive {
 #[inline(never)]
 fn rhs_loop(d: &Drive, y: &[f64], dy: &mut [f64], reps: usize, build: Option<SimdBuild>) -> bool {
     let sys = d.system();
+    let mut ws = Workspace::new();
     for _ in 0..reps {
         let y = std::hint::black_box(y);
         match build {
-            None => sys.rhs(0.01, y, dy, &mut NoRecord),
+            None => sys.rhs(&mut ws, 0.01, y, dy, &mut NoRecord),
             Some(b) => {
-                if !sys.rhs_build(b, 0.01, y, dy, &mut NoRecord) {
+                if !sys.rhs_build(b, &mut ws, 0.01, y, dy, &mut NoRecord) {
                     return false;
                 }
             }
@@ -98,7 +99,7 @@ fn rhs_loop(d: &Drive, y: &[f64], dy: &mut [f64], reps: usize, build: Option<Sim
 
 /// Median CPU time per body per evaluation [s], None if the CPU lacks the build.
 fn rhs_cost(d: &Drive, build: Option<SimdBuild>) -> Option<f64> {
-    let n = d.system().n;
+    let n = d.system().n_bodies();
     let y = d.state().to_vec();
     let mut dy = vec![0.0; y.len()];
     let reps = (2_000_000 / n).max(200);

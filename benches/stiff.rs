@@ -14,7 +14,7 @@ mod common;
 use belt_drive::belt::drive::Integrator;
 use belt_drive::belt::iteration_matrix::IterationMatrix;
 use belt_drive::belt::jacobian::Jacobian;
-use belt_drive::belt::model::NoRecord;
+use belt_drive::belt::model::{NoRecord, Workspace};
 use belt_drive::belt::params::Method;
 use belt_drive::belt::{Drive, DriveParams, FrictionLaw};
 use common::{cpu_time, median};
@@ -50,8 +50,9 @@ fn kernels(n: usize) {
     let mut jac = Jacobian::new(&sys);
     let mut m = IterationMatrix::new(&sys);
     let reps = (200_000 / n).max(20);
+    let mut ws = Workspace::new();
     let rhs = time_per_call(reps, || {
-        sys.rhs(0.05, black_box(&y), &mut dy, &mut NoRecord)
+        sys.rhs(&mut ws, 0.05, black_box(&y), &mut dy, &mut NoRecord)
     });
     let j = time_per_call(reps, || sys.jacobian(0.05, black_box(&y), &mut jac));
     let f = time_per_call(reps, || {

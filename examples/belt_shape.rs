@@ -18,7 +18,7 @@
 use std::fmt::Write as _;
 use std::io::Write as _;
 
-use belt_drive::belt::model::{Recorder, BODY_DOF};
+use belt_drive::belt::model::{Recorder, Workspace, BODY_DOF};
 use belt_drive::belt::params::Method;
 use belt_drive::belt::{Drive, DriveParams};
 
@@ -105,6 +105,7 @@ fn main() {
     s.push_str("],\"frames\":[");
     let mut dy = vec![0.0; d.state().len()];
     let mut tensions = Tensions(vec![0.0; n]);
+    let mut ws = Workspace::new();
     let frames = (stop / frame).round() as usize;
     let stdout = std::io::stdout();
     for i in 0..=frames {
@@ -115,7 +116,7 @@ fn main() {
             });
         }
         let sys = d.system().clone();
-        sys.rhs(d.time(), d.state(), &mut dy, &mut tensions);
+        sys.rhs(&mut ws, d.time(), d.state(), &mut dy, &mut tensions);
         let o = d.outputs();
         let y = d.state();
         if i > 0 {

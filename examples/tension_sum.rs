@@ -11,7 +11,7 @@
 //! `cargo run --release --example tension_sum -- [bodies] [method 1|2]
 //! [relTol] [law creep|kubas2014] [dv]`
 
-use belt_drive::belt::model::Recorder;
+use belt_drive::belt::model::{Recorder, Workspace};
 use belt_drive::belt::params::Method;
 use belt_drive::belt::{Drive, DriveParams, FrictionLaw};
 
@@ -63,14 +63,14 @@ struct Sums {
 
 fn snapshot(d: &mut Drive, x1: f64, x2: f64, acc: &mut Sums) {
     let sys = d.system().clone();
-    let n = sys.n;
+    let n = sys.n_bodies();
     let mut s = Snapshot {
         tension: vec![0.0; n],
         mid: vec![[0.0; 2]; n],
         contacts: Vec::new(),
     };
     let mut dy = vec![0.0; d.state().len()];
-    sys.rhs(d.time(), d.state(), &mut dy, &mut s);
+    sys.rhs(&mut Workspace::new(), d.time(), d.state(), &mut dy, &mut s);
     for k in 0..n {
         let [x, y] = s.mid[k];
         let region = if x < x1 {

@@ -1,6 +1,6 @@
 //! The hot path (right-hand side and integrator steps) allocates nothing.
 
-use belt_drive::belt::model::NoRecord;
+use belt_drive::belt::model::{NoRecord, Workspace};
 use belt_drive::belt::params::Method;
 use belt_drive::belt::{Drive, DriveParams};
 use std::alloc::{GlobalAlloc, Layout, System};
@@ -45,11 +45,12 @@ fn rhs_and_steps_do_not_allocate() {
         let mut d = Drive::new(&p, 0.0).unwrap();
         let y = d.state().to_vec();
         let mut dy = vec![0.0; y.len()];
+        let mut ws = Workspace::new();
         d.advance(1e-4).unwrap(); // warm-up
         let before = ALLOCS.load(Ordering::Relaxed);
         let steps = d.stats().steps;
         for _ in 0..100 {
-            d.system().rhs(0.0, &y, &mut dy, &mut NoRecord);
+            d.system().rhs(&mut ws, 0.0, &y, &mut dy, &mut NoRecord);
         }
         d.advance(2e-2).unwrap();
         let after = ALLOCS.load(Ordering::Relaxed);

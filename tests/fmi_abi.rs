@@ -166,7 +166,8 @@ fn status_queries() {
 
 /// A valid but doubtful parameter (contact damping ramp far beyond the
 /// penetration) initializes with fmi2OK and a fmi2Warning log line naming
-/// the parameter, with logging off; the default drive logs no warning.
+/// the parameter, with logging off; the default drive logs no warning, nor
+/// does the stiff method at relTol 1e-3.
 #[test]
 fn parameter_warning_reaches_the_logger() {
     let fmi = Fmi::load();
@@ -174,14 +175,11 @@ fn parameter_warning_reaches_the_logger() {
     assert!(!quiet.logged(1, ""), "{:?}", quiet.log.borrow());
     let i = Instance::initialized(&fmi, &[("contact.pMax", 5e-3)]);
     assert!(i.logged(1, "contact.pMax = 5e-3 m"), "{:?}", i.log.borrow());
-    assert!(i.logged(1, "set contact.pMax to about"));
-    // the stiff method above its trusted tolerance
+    assert!(i.logged(1, "set contact.pMax to 0 (automatic"));
+    // the stiff method at an importer's loose tolerance is not doubtful
+    // (tests/defaults.rs measures it)
     let s = Instance::initialized_with(&fmi, &[("solver.method", 2)], &[("solver.relTol", 1e-3)]);
-    assert!(
-        s.logged(1, "solver.relTol = 1e-3 with solver.method = 2"),
-        "{:?}",
-        s.log.borrow()
-    );
+    assert!(!s.logged(1, ""), "{:?}", s.log.borrow());
 }
 
 #[test]

@@ -18,7 +18,9 @@
 //! law, a missed contact, a wrong sign or lever) is many orders of
 //! magnitude larger than either.
 
-use belt_drive::belt::model::{BeltSystem, Inputs, Recorder, SimdBuild, BODY_DOF};
+use belt_drive::belt::model::{
+    BeltSystem, Inputs, Recorder, Relaxation, SimdBuild, Workspace, BODY_DOF,
+};
 use belt_drive::belt::params::{PulleyParams, MAX_PULLEYS};
 use belt_drive::belt::{Drive, DriveParams, FrictionLaw};
 use std::collections::BTreeMap;
@@ -45,11 +47,11 @@ fn reference_rhs<R: Recorder>(
     sde_mag: &mut [f64],
     rec: &mut R,
 ) {
-    let n = s.n;
-    let np = s.np;
-    let hl = s.half_length;
-    let (ks, bs, kt, bt) = (s.axial.k, s.axial.b, s.bend.k, s.bend.b);
-    let weight = s.mass * s.gravity;
+    let n = s.n_bodies();
+    let np = s.n_pulleys();
+    let hl = s.half_length();
+    let (ks, bs, kt, bt) = (s.axial().k, s.axial().b, s.bend().k, s.bend().b);
+    let weight = s.mass() * s.gravity();
     mag.iter_mut().for_each(|m| *m = 0.0);
 
     let mut omega_p = [0.0; MAX_PULLEYS];
@@ -88,7 +90,7 @@ fn reference_rhs<R: Recorder>(
         mag[o + 4] = weight;
         let mut dz = 0.0;
         for j in 0..np {
-            let pc = &s.pulleys[j];
+            let pc = &s.pulleys()[j];
             let (rx, ry) = (x - pc.cx, yy - pc.cy);
             let d2 = rx * rx + ry * ry;
             if d2 >= pc.radius2 {
@@ -99,13 +101,13 @@ fn reference_rhs<R: Recorder>(
             let (nx, ny) = (rx * inv, ry * inv);
             let p = pc.radius - dist;
             let p_dot = -(vx * nx + vy * ny);
-            let (normal, elastic) = s.contact.normal_force(p, p_dot);
+            let (normal, elastic) = s.contact().normal_force(p, p_dot, pc.inv_p_max);
             let (tx, ty) = (-ny, nx);
             // the pulley's friction lever (the chain's pitch radius, a constant
             // of the drive: contact::chordal_lever)
             let v_t = omega_p[j] * pc.lever - (vx * tx + vy * ty);
-            let zf = s.zone_factor[i];
-            let mu = s.friction.coefficient(v_t, z, pc.mu_s * zf, pc.mu_k * zf);
+            let zf = s.zone_factor()[i];
+            let mu = s.friction().coefficient(v_t, z, pc.mu_s * zf, pc.mu_k * zf);
             let f = mu * normal;
             let (cfx, cfy) = (normal * nx + f * tx, normal * ny + f * ty);
             fx += cfx;
@@ -114,7 +116,7 @@ fn reference_rhs<R: Recorder>(
             mag[o + 4] += normal.abs() + f.abs();
             belt_torque[j] -= pc.lever * f;
             belt_torque_mag[j] += (pc.lever * f).abs();
-            dz += s.friction.creep_rate(v_t, z);
+            dz += s.friction().creep_rate(v_t, z);
             mag[o + 6] += v_t.abs();
             let pd = (normal - elastic) * p_dot + f * v_t;
             p_diss += pd;
@@ -137,7 +139,7 @@ fn reference_rhs<R: Recorder>(
         let d = [cur.0[0] - prev.2[0], cur.0[1] - prev.2[1]];
         let dd = [cur.1[0] - prev.3[0], cur.1[1] - prev.3[1]];
         let d2 = d[0] * d[0] + d[1] * d[1];
-        let rate = (d[0] * dd[0] + d[1] * dd[1]) / (d2 + s.axial.eps2);
+        let rate = (d[0] * dd[0] + d[1] * dd[1]) / (d2 + s.axial().eps2);
         let fx = ks * d[0] + bs * rate * d[0];
         let fy = ks * d[1] + bs * rate * d[1];
         let t_cur = cur.4[0] * fy - cur.4[1] * fx;
@@ -183,21 +185,22 @@ fn reference_rhs<R: Recorder>(
         }
         prev = cur;
     }
-    let c = s.relax_damping;
+    let c = s.relaxation().damping;
+    let (inv_mass, inv_inertia) = (1.0 / s.mass(), 1.0 / s.inertia());
     for i in 0..n {
         let o = BODY_DOF * i;
-        dy[o + 3] = dy[o + 3] * s.inv_mass - c * y[o + 3];
-        dy[o + 4] = dy[o + 4] * s.inv_mass - c * y[o + 4];
-        dy[o + 5] = dy[o + 5] * s.inv_inertia - c * y[o + 5];
-        mag[o + 3] = mag[o + 3] * s.inv_mass + (c * y[o + 3]).abs();
-        mag[o + 4] = mag[o + 4] * s.inv_mass + (c * y[o + 4]).abs();
-        mag[o + 5] = mag[o + 5] * s.inv_inertia + (c * y[o + 5]).abs();
+        dy[o + 3] = dy[o + 3] * inv_mass - c * y[o + 3];
+        dy[o + 4] = dy[o + 4] * inv_mass - c * y[o + 4];
+        dy[o + 5] = dy[o + 5] * inv_inertia - c * y[o + 5];
+        mag[o + 3] = mag[o + 3] * inv_mass + (c * y[o + 3]).abs();
+        mag[o + 4] = mag[o + 4] * inv_mass + (c * y[o + 4]).abs();
+        mag[o + 5] = mag[o + 5] * inv_inertia + (c * y[o + 5]).abs();
     }
 
     let mut p_in = 0.0;
     let mut p_in_mag = 0.0;
     for j in 0..np {
-        let pc = &s.pulleys[j];
+        let pc = &s.pulleys()[j];
         let o = s.pulley_offset(j);
         let w = omega_p[j];
         let applied = s.applied_torque(j, t);
@@ -303,19 +306,27 @@ fn max_abs(it: impl Iterator<Item = f64>) -> f64 {
 fn compare(sys: &BeltSystem, t: f64, y: &[f64], label: &str) -> Exercised {
     let dim = sys.dim();
     let (mut dy_ref, mut mag) = (vec![0.0; dim], vec![0.0; dim]);
-    let mut sde_mag = vec![0.0; sys.n];
+    let mut sde_mag = vec![0.0; sys.n_bodies()];
     let mut log_ref = Log::default();
     reference_rhs(sys, t, y, &mut dy_ref, &mut mag, &mut sde_mag, &mut log_ref);
 
     // Garbage in dy must not leak into the result.
     let mut dy = vec![f64::NAN; dim];
-    sys.rhs(t, y, &mut dy, &mut belt_drive::belt::model::NoRecord);
+    let mut ws = Workspace::new();
+    sys.rhs(
+        &mut ws,
+        t,
+        y,
+        &mut dy,
+        &mut belt_drive::belt::model::NoRecord,
+    );
     // Every build of the same code the CPU can run (baseline SSE2, AVX2,
     // AVX-512) gives the same bits as the one the dispatch picked.
     for build in [SimdBuild::Baseline, SimdBuild::Avx2, SimdBuild::Avx512] {
         let mut dy_build = vec![f64::NAN; dim];
         let ran = sys.rhs_build(
             build,
+            &mut ws,
             t,
             y,
             &mut dy_build,
@@ -335,7 +346,7 @@ fn compare(sys: &BeltSystem, t: f64, y: &[f64], label: &str) -> Exercised {
     }
     let mut dy_rec = vec![1e300; dim];
     let mut log = Log::default();
-    sys.rhs(t, y, &mut dy_rec, &mut log);
+    sys.rhs(&mut ws, t, y, &mut dy_rec, &mut log);
     for row in 0..dim {
         let what = format!("{label}: dy[{row}] (body {}, dof {})", row / 7, row % 7);
         close(&what, dy[row], dy_ref[row], mag[row]);
@@ -347,7 +358,7 @@ fn compare(sys: &BeltSystem, t: f64, y: &[f64], label: &str) -> Exercised {
     }
 
     // Recorded outputs.
-    assert_eq!(log.sde.len(), sys.n, "{label}: one sde() per SDE");
+    assert_eq!(log.sde.len(), sys.n_bodies(), "{label}: one sde() per SDE");
     for (k, (tr, mr)) in &log_ref.sde {
         let (to, mo) = log.sde[k];
         close(&format!("{label}: SDE {k} tension"), to, *tr, sde_mag[*k]);
@@ -376,10 +387,14 @@ fn compare(sys: &BeltSystem, t: f64, y: &[f64], label: &str) -> Exercised {
             close(&format!("{label}: hub {j}"), *a, *b, hub_scale);
         }
     }
-    assert_eq!(log.pulley.len(), sys.np, "{label}: one pulley() per pulley");
+    assert_eq!(
+        log.pulley.len(),
+        sys.n_pulleys(),
+        "{label}: one pulley() per pulley"
+    );
     for (j, r) in &log_ref.pulley {
         let o = log.pulley[j];
-        let pc = &sys.pulleys[*j];
+        let pc = &sys.pulleys()[*j];
         let torque_scale = hub_scale * pc.radius + sys.applied_torque(*j, t).abs() + 1.0;
         close(
             &format!("{label}: pulley {j} belt torque"),
@@ -414,14 +429,14 @@ fn compare(sys: &BeltSystem, t: f64, y: &[f64], label: &str) -> Exercised {
         log_ref.power[0][1],
         mag[e + 1],
     );
-    let cap = sys.friction.creep_cap();
+    let cap = sys.friction().creep_cap();
     let mut ex = Exercised::default();
     for (&(i, _), r) in &log_ref.contact {
         let z = y[BODY_DOF * i + 6];
         ex.contacts += 1;
         ex.held_at_cap += (z.abs() >= cap && r[2] * z > 0.0) as usize;
         ex.below_cap += (z.abs() < cap) as usize;
-        ex.stick += (r[2].abs() * sys.friction.inv_dv < 1.0) as usize;
+        ex.stick += (r[2].abs() * sys.friction().inv_dv < 1.0) as usize;
     }
     ex
 }
@@ -470,8 +485,8 @@ impl Rng {
 /// creep values at, inside and beyond the cap, random pulley speeds.
 fn perturb(sys: &BeltSystem, y: &[f64], rng: &mut Rng, amp: f64) -> Vec<f64> {
     let mut y = y.to_vec();
-    let cap = sys.friction.creep_cap();
-    for i in 0..sys.n {
+    let cap = sys.friction().creep_cap();
+    for i in 0..sys.n_bodies() {
         let o = BODY_DOF * i;
         y[o] += amp * 5e-4 * rng.sym();
         y[o + 1] += amp * 5e-4 * rng.sym();
@@ -493,7 +508,7 @@ fn perturb(sys: &BeltSystem, y: &[f64], rng: &mut Rng, amp: f64) -> Vec<f64> {
             _ => cap * rng.sym(),
         };
     }
-    for j in 0..sys.np {
+    for j in 0..sys.n_pulleys() {
         let o = sys.pulley_offset(j);
         y[o] += rng.sym();
         y[o + 1] += 20.0 * rng.sym();
@@ -578,7 +593,10 @@ fn check_drive(which: usize) {
                 states += 1;
             }
             // The equilibrium relaxation's mass-proportional damping.
-            sys.relax_damping = 3e4;
+            sys = sys.with_relaxation(Relaxation {
+                damping: 3e4,
+                ..Relaxation::NONE
+            });
             let yp = perturb(&sys, &y, &mut rng, 0.3);
             ex += compare(&sys, t, &yp, &format!("{name} relax damping"));
             states += 1;

@@ -1,11 +1,11 @@
 //! A simulated belt drive: parameters, mounted layout, state, integrator.
 //! This is the whole interface the FMI adapter uses.
 
-use super::elements::contact::smoothstep;
+use super::elements::contact::{smoothstep, AUTO_P_MAX_PER_PENETRATION};
 use super::iteration_matrix::IterationMatrix;
 use super::jacobian::Jacobian;
 use super::layout::Layout;
-use super::model::{BeltSystem, Inputs, NoRecord, Recorder, BODY_DOF};
+use super::model::{BeltSystem, Inputs, NoRecord, Recorder, Relaxation, Workspace, BODY_DOF};
 use super::params::{DriveParams, Method, ParamError, MAX_PULLEYS, PROBE_AUTO};
 use super::rkf45::Rkf45;
 use super::rosenbrock::{Rosenbrock, StiffSystem};
@@ -13,12 +13,16 @@ use super::solver_params::TUNING;
 use super::stepping::{OdeSystem, Stats, StepControl, StepFailure};
 
 impl OdeSystem for BeltSystem {
+    type Workspace = Workspace;
     fn dim(&self) -> usize {
         BeltSystem::dim(self)
     }
+    fn workspace(&self) -> Workspace {
+        Workspace::new()
+    }
     #[inline]
-    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
-        BeltSystem::rhs(self, t, y, dy, &mut NoRecord);
+    fn rhs(&self, ws: &mut Workspace, t: f64, y: &[f64], dy: &mut [f64]) {
+        BeltSystem::rhs(self, ws, t, y, dy, &mut NoRecord);
     }
     fn after_step(&self, y: &mut [f64]) {
         BeltSystem::after_step(self, y);
@@ -54,16 +58,21 @@ impl StiffSystem for BeltSystem {
     /// still rejected). With the creep law the body velocities carry those
     /// modes too, but also the creep velocities that set the slip: weight
     /// 1e-2 (1e-3 let the 5PK slip drift 5 % from RKF45's, 1e-2 0.3 %, for
-    /// 28 % more steps; docs/model.md). With `kubas2014` friction follows the
-    /// sliding velocity itself, and a step that jumps across the stick band
-    /// |v_T| < dv lands on the sliding branch, whose linearisation has no
-    /// friction slope: the velocities keep full weight.
-    fn error_mask(&self, mask: &mut [f64]) {
+    /// 28 % more steps; docs/model.md), and never looser than a relative
+    /// tolerance of 1e-2 on them: at relTol 1e-3 a weight of 1e-2 let the
+    /// steps lose the creep arcs (`SolverTuning::creep_velocity_max_rel_tol`).
+    /// With `kubas2014` friction follows the sliding velocity itself, and a
+    /// step that jumps across the stick band |v_T| < dv lands on the sliding
+    /// branch, whose linearisation has no friction slope: the velocities keep
+    /// full weight.
+    fn error_mask(&self, rel_tol: f64, mask: &mut [f64]) {
         const ANGLES: f64 = TUNING.weight_angles;
-        const CREEP_VELOCITIES: f64 = TUNING.weight_creep_velocities;
         mask.fill(1.0);
         let velocities = match self.friction.law {
-            super::params::FrictionLaw::Creep => CREEP_VELOCITIES,
+            super::params::FrictionLaw::Creep => TUNING
+                .weight_creep_velocities
+                .max(rel_tol / TUNING.creep_velocity_max_rel_tol)
+                .min(1.0),
             super::params::FrictionLaw::Kubas2014 => 1.0,
         };
         for body in mask[..BODY_DOF * self.n].chunks_exact_mut(BODY_DOF) {
@@ -107,13 +116,14 @@ impl Integrator {
     fn advance(
         &mut self,
         sys: &BeltSystem,
+        ws: &mut Workspace,
         t: &mut f64,
         y: &mut [f64],
         t_end: f64,
     ) -> Result<(), StepFailure> {
         match self {
-            Self::Rkf45(i) => i.advance(sys, t, y, t_end),
-            Self::Rosenbrock(i) => i.advance(sys, t, y, t_end),
+            Self::Rkf45(i) => i.advance(sys, ws, t, y, t_end),
+            Self::Rosenbrock(i) => i.advance(sys, ws, t, y, t_end),
         }
     }
 
@@ -286,20 +296,15 @@ impl Recorder for OutputRecorder<'_> {
 /// `max_steps` bounds the work in total (the solver's step-count guard, at
 /// most `RELAX_MAX_STEPS`); a relaxation cut short leaves the belt as far as
 /// it got.
-fn relax_into_equilibrium(sys: &BeltSystem, y: &mut [f64], max_steps: u64) {
-    let mut relax = sys.clone();
-    for p in relax.pulleys.iter_mut() {
-        p.mu_s = 0.0;
-        p.mu_k = 0.0;
-        p.speed_driven = true;
-        p.omega_ramp = 0.0;
-        // a decoupler's rotor stays at rest too
-        p.torque_ramp = 0.0;
-    }
-    relax.inputs = Inputs::default();
+fn relax_into_equilibrium(sys: &BeltSystem, ws: &mut Workspace, y: &mut [f64], max_steps: u64) {
     // Contact mode of one body: stiffness dN/dp at the typical penetration.
-    let k_contact = relax.contact.c2 + 2.0 * relax.contact.c1 * TUNING.relax_penetration;
-    relax.relax_damping = 2.0 * (k_contact / relax.mass).sqrt();
+    let k_contact = sys.contact.c2 + 2.0 * sys.contact.c1 * TUNING.relax_penetration;
+    // Friction off, the pulleys (and a decoupler's rotor) held at rest.
+    let relax = sys.with_relaxation(Relaxation {
+        damping: 2.0 * (k_contact / sys.mass).sqrt(),
+        frictionless: true,
+        pulleys_held: true,
+    });
     // Relax over a few axial diffusion times of the damped belt, at least
     // ten contact periods; stop early once everything is at rest.
     const CHUNKS: u64 = TUNING.relax_chunks;
@@ -316,7 +321,7 @@ fn relax_into_equilibrium(sys: &BeltSystem, y: &mut [f64], max_steps: u64) {
     let chunk = 2.0 * period;
     for _ in 0..CHUNKS {
         let target = t + chunk;
-        if rk.advance(&relax, &mut t, y, target).is_err() {
+        if rk.advance(&relax, ws, &mut t, y, target).is_err() {
             break;
         }
         let v_max = (0..relax.n)
@@ -348,7 +353,7 @@ fn relax_into_equilibrium(sys: &BeltSystem, y: &mut [f64], max_steps: u64) {
 const RELAX_MAX_STEPS: u64 = TUNING.relax_max_steps;
 
 /// A belt drive ready to run.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct Drive {
     params: DriveParams,
     layout: Layout,
@@ -356,6 +361,8 @@ pub struct Drive {
     t: f64,
     y: Vec<f64>,
     integrator: Integrator,
+    /// Scratch of the right-hand side.
+    ws: Workspace,
     /// Scratch for recorded evaluations (outputs only).
     dy: Vec<f64>,
     tensions: Vec<f64>,
@@ -386,34 +393,21 @@ fn auto_probe(layout: &Layout) -> usize {
 /// paper's 5PK drive has 0.26, its section-3 drive as printed 6e-5).
 const WEAK_CONTACT_DAMPING: f64 = TUNING.weak_contact_damping;
 
-/// Loosest relative tolerance the stiff method is trusted with (docs/model.md,
-/// "Integrators": at 1e-3 the 5PK drive's steps lose the creep arcs).
-const STIFF_MAX_REL_TOL: f64 = TUNING.stiff_max_rel_tol;
-
 /// Parameter choices that are valid but make the drive behave badly, one
 /// message each, naming the parameter and the value to use instead.
 fn warnings(params: &DriveParams, layout: &Layout, sys: &BeltSystem) -> Vec<String> {
     let mut out = Vec::new();
-    let s = &params.solver;
-    if s.method == Method::Rosenbrock && s.rel_tol > STIFF_MAX_REL_TOL {
-        out.push(format!(
-            "solver.relTol = {:e} with solver.method = 2: above {STIFF_MAX_REL_TOL:e} the stiff \
-             method's steps can lose the creep arcs (the default drive slips grossly at 1e-3); \
-             use solver.relTol <= {STIFF_MAX_REL_TOL:e}",
-            s.rel_tol
-        ));
-    }
     let c = &sys.contact;
     if c.b <= 0.0 {
         return out;
     }
-    let p_max = params.contact.p_max;
     let mut wraps: Vec<_> = layout.wraps.iter().collect();
     wraps.sort_by_key(|w| w.pulley);
     for w in wraps {
         let p0 = w.penetration;
-        let share = smoothstep(p0 / p_max);
-        let zeta = c.damping_ratio(p0, sys.mass);
+        let inv_p_max = sys.pulleys[w.pulley].inv_p_max;
+        let share = smoothstep(p0 * inv_p_max);
+        let zeta = c.damping_ratio(p0, sys.mass, inv_p_max);
         if zeta >= WEAK_CONTACT_DAMPING {
             continue;
         }
@@ -427,15 +421,19 @@ fn warnings(params: &DriveParams, layout: &Layout, sys: &BeltSystem) -> Vec<Stri
                 params.contact.damping * 0.1 / zeta
             ));
         } else {
+            // only a user's contact.pMax can be this long: the automatic
+            // one puts the full damping at the penetration
+            let p_max = params.contact.p_max;
             out.push(format!(
                 "contact.pMax = {p_max:e} m is {:.0} times the equilibrium penetration {p0:.2e} m \
                  on pulley[{}]: the contact damping acts there with {share:.1e} of contact.damping \
                  (damping ratio {:.1e}), so the belt can rattle on the pulley and lose traction; \
-                 set contact.pMax to about 2 x the penetration ({:.1e} m)",
+                 set contact.pMax to 0 (automatic: {AUTO_P_MAX_PER_PENETRATION} x each pulley's \
+                 penetration, here {:.1e} m)",
                 p_max / p0,
                 w.pulley + 1,
                 zeta,
-                2.0 * p0
+                AUTO_P_MAX_PER_PENETRATION * p0
             ));
         }
     }
@@ -447,7 +445,12 @@ impl Drive {
     /// relaxes it into static equilibrium.
     pub fn new(params: &DriveParams, t0: f64) -> Result<Self, ParamError> {
         let mut drive = Self::mounted(params, t0)?;
-        relax_into_equilibrium(&drive.sys, &mut drive.y, params.solver.max_steps);
+        relax_into_equilibrium(
+            &drive.sys,
+            &mut drive.ws,
+            &mut drive.y,
+            params.solver.max_steps,
+        );
         Ok(drive)
     }
 
@@ -479,6 +482,7 @@ impl Drive {
             t: t0,
             y,
             integrator,
+            ws: Workspace::new(),
             dy: vec![0.0; dim],
             tensions: vec![0.0; params.belt.n_bodies],
             warnings,
@@ -545,7 +549,7 @@ impl Drive {
     /// last good state (the time and state of the call).
     pub fn advance(&mut self, t_end: f64) -> Result<(), StepFailure> {
         self.integrator
-            .advance(&self.sys, &mut self.t, &mut self.y, t_end)
+            .advance(&self.sys, &mut self.ws, &mut self.t, &mut self.y, t_end)
     }
 
     /// All outputs at the current state.
@@ -567,7 +571,8 @@ impl Drive {
                 n_spans: np,
                 span_best: [f64::INFINITY; MAX_PULLEYS],
             };
-            self.sys.rhs(self.t, &self.y, &mut self.dy, &mut rec);
+            self.sys
+                .rhs(&mut self.ws, self.t, &self.y, &mut self.dy, &mut rec);
         }
         out.min_tension = self.tensions.iter().copied().fold(f64::INFINITY, f64::min);
         out.max_tension = self
@@ -718,8 +723,9 @@ impl Drive {
 mod tests {
     use super::*;
 
-    /// The paper's drives as built in warn about nothing; a radially
-    /// undamped contact is flagged with the parameter that causes it.
+    /// The paper's drives as built in and the default drive warn about
+    /// nothing; a radially undamped contact is flagged with the parameter
+    /// that causes it.
     #[test]
     fn warnings_name_the_cause() {
         let warnings = |p: &DriveParams| {
@@ -732,12 +738,22 @@ mod tests {
             let w = warnings(&p);
             assert!(w.is_empty(), "{w:?}");
         }
-        // the 5PK drive's ramp at 30 x the penetration: pMax is named
+        // the 5PK drive's ramp at 30 x the penetration: pMax is named, and
+        // the advice is the automatic ramp
         let mut p = DriveParams::kubas_section4();
         p.contact.p_max = 5e-3;
         let w = warnings(&p);
         assert_eq!(w.len(), 2, "{w:?}");
         assert!(w[0].starts_with("contact.pMax = 5e-3 m") && w[0].contains("pulley[1]"));
+        assert!(w[0].contains("set contact.pMax to 0 (automatic"), "{w:?}");
+        // the automatic ramp (the FMU's default) damps every wrap of the
+        // paper's drives and of a heavy belt with the paper's 5PK contact
+        let mut p = DriveParams::default();
+        assert_eq!(p.contact.p_max, 0.0);
+        assert!(warnings(&p).is_empty());
+        p.belt.mass_per_length = 0.8;
+        p.belt.ea = 7600.0;
+        assert!(warnings(&p).is_empty());
         // full ramp but a tiny damping coefficient: contact.damping is named
         let mut p = DriveParams::kubas_section4();
         p.contact.p_max = 1e-5;
@@ -748,14 +764,11 @@ mod tests {
         // no damping at all is the user's explicit choice
         p.contact.damping = 0.0;
         assert!(warnings(&p).is_empty());
-        // the stiff method above its trusted tolerance
-        let mut p = DriveParams::kubas_section4();
+        // no tolerance warning: the stiff method degrades gracefully
+        // (tests/defaults.rs)
+        let mut p = DriveParams::default();
         p.solver.method = Method::Rosenbrock;
-        p.solver.rel_tol = 1e-4;
-        assert!(warnings(&p).is_empty());
         p.solver.rel_tol = 1e-3;
-        let w = warnings(&p);
-        assert_eq!(w.len(), 1, "{w:?}");
-        assert!(w[0].starts_with("solver.relTol = 1e-3 with solver.method = 2"));
+        assert!(warnings(&p).is_empty());
     }
 }

@@ -16,7 +16,7 @@
 
 use super::elements::contact;
 use super::elements::sde::{self, BodyEnd};
-use super::model::{BeltSystem, BODY_DOF};
+use super::model::{BeltSystem, PulleyConst, BODY_DOF};
 use super::params::MAX_PULLEYS;
 use super::trig;
 use nalgebra::{Matrix2, Matrix3, RowVector3, SMatrix, Vector2, Vector3};
@@ -241,6 +241,8 @@ impl BeltSystem {
             *w = self.pulley_speed(j, t, y);
         }
         jac.pw = [[0.0; MAX_PULLEYS]; MAX_PULLEYS];
+        let mut buf = [PulleyConst::NONE; MAX_PULLEYS];
+        let pulleys = self.pulleys_in_effect(&mut buf);
         let (inv_m, inv_i) = (self.inv_mass, self.inv_inertia);
         let row_scale = [inv_m, inv_m, inv_i];
 
@@ -270,7 +272,7 @@ impl BeltSystem {
             let mut fq = Matrix2::zeros();
             let mut fv = Matrix2::zeros();
             for j in 0..np {
-                let pc = &self.pulleys[j];
+                let pc = &pulleys[j];
                 let kin = contact::kinematics(
                     [x[0] - pc.cx, x[1] - pc.cy],
                     v,
@@ -285,7 +287,8 @@ impl BeltSystem {
                 let cp = contact::force_partials(
                     &kin,
                     v,
-                    self.contact.normal_force_jac(kin.p, kin.p_dot),
+                    self.contact
+                        .normal_force_jac(kin.p, kin.p_dot, pc.inv_p_max),
                     self.friction
                         .coefficient_jac(kin.v_t, z, pc.mu_s * zf, pc.mu_k * zf),
                     pc.lever,
@@ -408,17 +411,18 @@ impl BeltSystem {
             bc.aq[PREV] += blk(&kq, 3, 0);
             bc.av[PREV] += blk(&kv, 3, 0);
         }
-        if self.relax_damping != 0.0 {
+        let damping = self.relaxation.damping;
+        if damping != 0.0 {
             for b in jac.bodies.iter_mut() {
                 for r in 0..3 {
-                    b.av[SELF][(r, r)] -= self.relax_damping;
+                    b.av[SELF][(r, r)] -= damping;
                 }
             }
         }
         // Pulley load damping (eq. 24, Fig. 13), on the hub or, through a
         // decoupler, on its rotor; the decoupler's terms.
         for j in 0..np {
-            let pc = &self.pulleys[j];
+            let pc = &pulleys[j];
             let Some(dc) = &pc.decoupler else {
                 if !pc.speed_driven {
                     jac.pw[j][j] += pc.balance_partials().0;
@@ -454,20 +458,23 @@ impl BeltSystem {
 mod tests {
     use super::*;
     use crate::belt::drive::Drive;
-    use crate::belt::model::NoRecord;
+    use crate::belt::model::{NoRecord, Workspace};
     use crate::belt::params::{DriveParams, FrictionLaw, PulleyParams};
 
-    /// A small two-pulley drive (r = 50 mm) with `n` bodies.
+    /// A small two-pulley drive (r = 50 and 45 mm) with 36 bodies at 120 N
+    /// and the automatic contact damping ramp, which differs between the
+    /// pulleys (p_max = 12.9 and 14.1 um, half their penetrations).
     fn drive(law: FrictionLaw, speed_driven: bool) -> Drive {
-        let mut p = DriveParams::kubas_section4();
+        let mut p = DriveParams::default();
         p.belt.n_bodies = 36;
-        p.belt.preload = 300.0;
+        p.belt.preload = 120.0;
         p.friction.law = law;
         p.friction.dv = 1e-2;
         p.probe_body = 0;
         let mut p1 = PulleyParams::paper_5pk(0.0, 0.0);
         p1.radius = 0.05;
         let mut p2 = p1.clone();
+        p2.radius = 0.045;
         p2.x = 0.25;
         p2.load_damping = 0.3;
         p.pulleys = vec![p1, p2];
@@ -492,6 +499,7 @@ mod tests {
         // every state but the two energy accumulators
         let states: Vec<usize> = (0..e_rows).chain(e_rows + 2..dim).collect();
         let (mut a, mut b) = (vec![0.0; dim], vec![0.0; dim]);
+        let mut ws = Workspace::new();
         let mut yp = y.to_vec();
         let mut checked = 0;
         for &c in &states {
@@ -502,9 +510,9 @@ mod tests {
                 1e-8 * y[c].abs().max(1e-2)
             };
             yp[c] = y[c] + scale;
-            sys.rhs(t, &yp, &mut a, &mut NoRecord);
+            sys.rhs(&mut ws, t, &yp, &mut a, &mut NoRecord);
             yp[c] = y[c] - scale;
-            sys.rhs(t, &yp, &mut b, &mut NoRecord);
+            sys.rhs(&mut ws, t, &yp, &mut b, &mut NoRecord);
             yp[c] = y[c];
             for &r in &states {
                 let fd = (a[r] - b[r]) / (2.0 * scale);
@@ -571,9 +579,33 @@ mod tests {
             for speed_driven in [false, true] {
                 let d = drive(law, speed_driven);
                 assert_eq!(d.system().friction.creep_max, 1e-4);
+                // each pulley its own automatic ramp, half its penetration
+                let sys = d.system();
+                for j in 0..2 {
+                    let p0 = d.layout().wrap_of(j).unwrap().penetration;
+                    assert_eq!(sys.pulleys[j].inv_p_max, 1.0 / (0.5 * p0));
+                }
+                assert_ne!(sys.pulleys[0].inv_p_max, sys.pulleys[1].inv_p_max);
                 // creep in the elastic range, in the softening range, at the
                 // cap (sliding), and zero (stick at v_T ~ 0 for kubas2014)
                 let y = running_state(&d, &[0.0, 3e-5, -7e-5, 1.2e-4, -1.3e-4, cap_creep]);
+                // one body per pulley onto the middle of its pulley's ramp
+                let mut y = y;
+                for (j, pc) in sys.pulleys[..2].iter().enumerate() {
+                    let i = (0..sys.n)
+                        .find(|&i| {
+                            let o = BODY_DOF * i;
+                            let r = Vector2::new(y[o] - pc.cx, y[o + 1] - pc.cy);
+                            r.norm_squared() < pc.radius2
+                        })
+                        .unwrap_or_else(|| panic!("a body on pulley {j}"));
+                    let o = BODY_DOF * i;
+                    let r = Vector2::new(y[o] - pc.cx, y[o + 1] - pc.cy);
+                    let on_ramp = Vector2::new(pc.cx, pc.cy)
+                        + r.normalize() * (pc.radius - 0.5 / pc.inv_p_max);
+                    y[o] = on_ramp.x;
+                    y[o + 1] = on_ramp.y;
+                }
                 let cols = check(d.system(), 0.02, &y);
                 assert_eq!(cols, d.system().energy_offset());
             }

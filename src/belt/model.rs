@@ -19,7 +19,6 @@ use super::layout::Layout;
 use super::params::{DriveParams, FrictionLaw, MAX_PULLEYS};
 use super::solver_params::TUNING;
 use super::trig;
-use std::sync::{Mutex, TryLockError};
 
 /// Values per body in the state vector.
 pub const BODY_DOF: usize = 7;
@@ -64,34 +63,64 @@ impl Recorder for NoRecord {
     const ACTIVE: bool = false;
 }
 
-/// The belt drive as an ODE system.
+/// What the right-hand side changes while the mounted belt is relaxed into
+/// static equilibrium (`Drive::new`); all off ([`Relaxation::NONE`]) while
+/// the drive runs. The drive's physical constants stay as they are.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Relaxation {
+    /// Mass-proportional damping of the bodies' translation and rotation
+    /// [1/s].
+    pub damping: f64,
+    /// Friction between belt and pulleys switched off (the creep
+    /// displacement still follows its rate law).
+    pub frictionless: bool,
+    /// Every pulley and decoupler rotor held at rest: inputs and built-in
+    /// ramps are ignored and every pulley is treated as speed-driven.
+    pub pulleys_held: bool,
+}
+
+impl Relaxation {
+    /// The running drive: nothing changed.
+    pub const NONE: Self = Self {
+        damping: 0.0,
+        frictionless: false,
+        pulleys_held: false,
+    };
+}
+
+/// The belt drive as an ODE system: the constants of every body, SDE,
+/// contact and pulley, and the inputs held over the current step. The
+/// scratch of an evaluation is a [`Workspace`] the caller owns.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BeltSystem {
-    pub n: usize,
-    pub np: usize,
+    /// Belt bodies n.
+    pub(super) n: usize,
+    /// Pulleys.
+    pub(super) np: usize,
     /// Pulleys with a decoupler (2 states each, after the energies).
-    pub n_decouplers: usize,
-    pub pulleys: [PulleyConst; MAX_PULLEYS],
-    pub half_length: f64,
-    pub mass: f64,
-    pub inv_mass: f64,
-    pub inertia: f64,
-    pub inv_inertia: f64,
+    pub(super) n_decouplers: usize,
+    pub(super) pulleys: [PulleyConst; MAX_PULLEYS],
+    /// Half the body length l/2 [m].
+    pub(super) half_length: f64,
+    /// Body mass m and moment of inertia I (eq. 2), with their inverses.
+    pub(super) mass: f64,
+    pub(super) inv_mass: f64,
+    pub(super) inertia: f64,
+    pub(super) inv_inertia: f64,
     /// Translational SDE between neighbouring bodies (EA/l, B/l).
-    pub axial: AxialSde,
+    pub(super) axial: AxialSde,
     /// Torsional SDE between neighbouring bodies (EI/l, damping).
-    pub bend: TorsionalSde,
-    pub gravity: f64,
-    pub contact: ContactLaw,
-    pub friction: Friction,
+    pub(super) bend: TorsionalSde,
+    /// Gravitational acceleration [m/s^2] (acts in -y).
+    pub(super) gravity: f64,
+    pub(super) contact: ContactLaw,
+    pub(super) friction: Friction,
     /// Friction factor of every body (1 outside the modified zone).
-    pub zone_factor: Vec<f64>,
-    /// Mass-proportional damping [1/s] used only while the mounted belt is
-    /// relaxed into static equilibrium (see `Drive::new`); 0 when running.
-    pub relax_damping: f64,
-    pub inputs: Inputs,
-    /// Scratch of the right-hand side (not part of the model).
-    pub scratch: Scratch,
+    pub(super) zone_factor: Vec<f64>,
+    /// The equilibrium relaxation's settings ([`Relaxation::NONE`] when
+    /// running).
+    pub(super) relaxation: Relaxation,
+    pub(super) inputs: Inputs,
 }
 
 pub(crate) use super::trig::wrap_angle;
@@ -382,32 +411,33 @@ impl Block {
     }
 }
 
-/// The right-hand side's block scratch, held by the system so that no
-/// evaluation allocates or clears it. A clone gets its own; it takes no
-/// part in comparisons.
-pub struct Scratch(Mutex<Box<Block>>);
+/// Scratch of the right-hand side ([`BeltSystem::rhs`]): one block of
+/// bodies in structure-of-arrays form (~20 KiB), allocated once by its
+/// owner (the integrator's caller) so that no evaluation allocates. It
+/// carries nothing from one evaluation to the next.
+#[derive(Clone)]
+pub struct Workspace {
+    block: Box<Block>,
+}
 
-impl Scratch {
-    fn new() -> Self {
-        Self(Mutex::new(Box::new(Block::new())))
+impl Workspace {
+    /// A fresh workspace (one allocation).
+    pub fn new() -> Self {
+        Self {
+            block: Box::new(Block::new()),
+        }
     }
 }
 
-impl Clone for Scratch {
-    fn clone(&self) -> Self {
+impl Default for Workspace {
+    fn default() -> Self {
         Self::new()
     }
 }
 
-impl PartialEq for Scratch {
-    fn eq(&self, _: &Self) -> bool {
-        true
-    }
-}
-
-impl std::fmt::Debug for Scratch {
+impl std::fmt::Debug for Workspace {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str("Scratch")
+        f.debug_struct("Workspace").finish_non_exhaustive()
     }
 }
 
@@ -451,6 +481,13 @@ impl BeltSystem {
                 // the groove's wedge effect (elements::groove)
                 mu_s: p.mu_static * friction_factor(p.groove_angle, p.back_side),
                 mu_k: p.mu_kinetic * friction_factor(p.groove_angle, p.back_side),
+                // the damping ramp: the user's contact.pMax, or from the
+                // wrap's equilibrium penetration (elements::contact)
+                inv_p_max: 1.0
+                    / contact::auto_p_max(
+                        params.contact.p_max,
+                        layout.wrap_of(j).map_or(0.0, |w| w.penetration),
+                    ),
                 speed_driven: p.speed_driven,
                 load_damping: p.load_damping,
                 torque_ramp: p.torque_ramp,
@@ -497,39 +534,164 @@ impl BeltSystem {
                 c1: c.c1 * l,
                 c2: c.c2 * l,
                 b: c.damping * l,
-                inv_p_max: 1.0 / c.p_max,
             },
             friction: Friction::new(f.law, f.dv, f.creep_max, f.creep_damping_time),
             zone_factor,
-            relax_damping: 0.0,
+            relaxation: Relaxation::NONE,
             inputs: Inputs::default(),
-            scratch: Scratch::new(),
         }
     }
 
+    /// Length of the state vector.
     pub fn dim(&self) -> usize {
         BODY_DOF * self.n + 2 * self.np + 2 + 2 * self.n_decouplers
     }
 
+    /// Offset of pulley j's `[theta, omega]` in the state.
     pub fn pulley_offset(&self, j: usize) -> usize {
         BODY_DOF * self.n + 2 * j
     }
 
+    /// Offset of `[work_in, energy_dissipated]` in the state.
     pub fn energy_offset(&self) -> usize {
         BODY_DOF * self.n + 2 * self.np
     }
 
-    /// Torque input plus built-in ramp on pulley j at time t.
+    /// Number of belt bodies n.
+    pub fn n_bodies(&self) -> usize {
+        self.n
+    }
+
+    /// Number of pulleys.
+    pub fn n_pulleys(&self) -> usize {
+        self.np
+    }
+
+    /// Number of pulleys with a one-way decoupler.
+    pub fn n_decouplers(&self) -> usize {
+        self.n_decouplers
+    }
+
+    /// The pulleys' constants, in pulley order.
+    pub fn pulleys(&self) -> &[PulleyConst] {
+        &self.pulleys[..self.np]
+    }
+
+    /// Half the body length l/2 [m].
+    pub fn half_length(&self) -> f64 {
+        self.half_length
+    }
+
+    /// Mass of one body [kg].
+    pub fn mass(&self) -> f64 {
+        self.mass
+    }
+
+    /// Moment of inertia of one body about its centre (eq. 2) [kg m^2].
+    pub fn inertia(&self) -> f64 {
+        self.inertia
+    }
+
+    /// Gravitational acceleration [m/s^2], acting in -y.
+    pub fn gravity(&self) -> f64 {
+        self.gravity
+    }
+
+    /// The translational SDE between neighbouring bodies.
+    pub fn axial(&self) -> AxialSde {
+        self.axial
+    }
+
+    /// The torsional SDE between neighbouring bodies.
+    pub fn bend(&self) -> TorsionalSde {
+        self.bend
+    }
+
+    /// The normal-force law of every contact.
+    pub fn contact(&self) -> ContactLaw {
+        self.contact
+    }
+
+    /// The friction law of every contact.
+    pub fn friction(&self) -> Friction {
+        self.friction
+    }
+
+    /// Friction factor of each body (1 outside the modified zone).
+    pub fn zone_factor(&self) -> &[f64] {
+        &self.zone_factor
+    }
+
+    /// The inputs held over the current step.
+    pub fn inputs(&self) -> &Inputs {
+        &self.inputs
+    }
+
+    /// The equilibrium relaxation's settings in effect.
+    pub fn relaxation(&self) -> Relaxation {
+        self.relaxation
+    }
+
+    /// The same drive with the relaxation settings `r` (its constants
+    /// unchanged).
+    pub fn with_relaxation(&self, r: Relaxation) -> Self {
+        Self {
+            relaxation: r,
+            ..self.clone()
+        }
+    }
+
+    /// Pulley j as the equations see it: during the relaxation without
+    /// friction and held at rest (speed-driven) as its settings say.
+    #[inline(always)]
+    pub(super) fn pulley_in_effect(&self, j: usize) -> PulleyConst {
+        let mut pc = self.pulleys[j];
+        let r = &self.relaxation;
+        if r.frictionless {
+            pc.mu_s = 0.0;
+            pc.mu_k = 0.0;
+        }
+        if r.pulleys_held {
+            pc.speed_driven = true;
+        }
+        pc
+    }
+
+    /// All pulleys as [`Self::pulley_in_effect`] gives them: the system's
+    /// own array while running, else `buf` filled.
+    #[inline(always)]
+    pub(super) fn pulleys_in_effect<'a>(
+        &'a self,
+        buf: &'a mut [PulleyConst; MAX_PULLEYS],
+    ) -> &'a [PulleyConst; MAX_PULLEYS] {
+        if self.relaxation == Relaxation::NONE {
+            return &self.pulleys;
+        }
+        for (j, pc) in buf.iter_mut().enumerate().take(self.np) {
+            *pc = self.pulley_in_effect(j);
+        }
+        buf
+    }
+
+    /// Torque input plus built-in ramp on pulley j at time t (0 while the
+    /// relaxation holds the pulleys).
     #[inline]
     pub fn applied_torque(&self, j: usize, t: f64) -> f64 {
+        if self.relaxation.pulleys_held {
+            return 0.0;
+        }
         let p = &self.pulleys[j];
         let inp = &self.inputs;
         inp.torque[j] + inp.torque_rate[j] * (t - inp.t0) + p.ramp(p.torque_ramp, t)
     }
 
-    /// Prescribed speed of a speed-driven pulley j at time t, and its rate.
+    /// Prescribed speed of a speed-driven pulley j at time t, and its rate
+    /// (0 while the relaxation holds the pulleys).
     #[inline]
     pub fn prescribed_speed(&self, j: usize, t: f64) -> (f64, f64) {
+        if self.relaxation.pulleys_held {
+            return (0.0, 0.0);
+        }
         let p = &self.pulleys[j];
         let inp = &self.inputs;
         let w = inp.omega_ref[j] + inp.omega_ref_rate[j] * (t - inp.t0) + p.ramp(p.omega_ramp, t);
@@ -541,17 +703,17 @@ impl BeltSystem {
     /// torque-driven pulleys, the prescription for speed-driven ones.
     #[inline]
     pub fn pulley_speed(&self, j: usize, t: f64, y: &[f64]) -> f64 {
-        if self.pulleys[j].speed_driven {
+        if self.pulleys[j].speed_driven || self.relaxation.pulleys_held {
             self.prescribed_speed(j, t).0
         } else {
             y[self.pulley_offset(j) + 1]
         }
     }
 
-    /// dy/dt = f(t, y). Allocates nothing.
+    /// dy/dt = f(t, y), with the scratch in `ws`. Allocates nothing.
     ///
     /// The bodies are processed in blocks of [`BLOCK`] with the block's
-    /// data in structure-of-arrays scratch on the stack, in four steps that
+    /// data in structure-of-arrays scratch (`ws`), in four steps that
     /// each loop over the block: (1) end points of every body (eq. 20-23,
     /// one branch-free sin/cos per body), (2) the translational and torsional
     /// SDE between neighbours, (3) contact and friction (eq. 4-19) of the
@@ -560,20 +722,27 @@ impl BeltSystem {
     /// last body and SDE of a block are carried into the next, so every
     /// sin/cos and every SDE is evaluated once (one of each twice at the
     /// closing of the loop).
-    pub fn rhs<R: Recorder>(&self, t: f64, y: &[f64], dy: &mut [f64], rec: &mut R) {
+    pub fn rhs<R: Recorder>(
+        &self,
+        ws: &mut Workspace,
+        t: f64,
+        y: &[f64],
+        dy: &mut [f64],
+        rec: &mut R,
+    ) {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx512f") {
             // SAFETY: the CPU has AVX-512F (checked above).
-            unsafe { self.rhs_avx512(t, y, dy, rec) };
+            unsafe { self.rhs_avx512(ws, t, y, dy, rec) };
             return;
         }
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the CPU has AVX2 (checked above).
-            unsafe { self.rhs_avx2(t, y, dy, rec) };
+            unsafe { self.rhs_avx2(ws, t, y, dy, rec) };
             return;
         }
-        self.rhs_impl::<R, false>(t, y, dy, rec);
+        self.rhs_impl::<R, false>(ws, t, y, dy, rec);
     }
 
     /// [`Self::rhs`] compiled for one instruction set, if the CPU has it
@@ -583,22 +752,23 @@ impl BeltSystem {
     pub fn rhs_build<R: Recorder>(
         &self,
         build: SimdBuild,
+        ws: &mut Workspace,
         t: f64,
         y: &[f64],
         dy: &mut [f64],
         rec: &mut R,
     ) -> bool {
         match build {
-            SimdBuild::Baseline => self.rhs_impl::<R, false>(t, y, dy, rec),
+            SimdBuild::Baseline => self.rhs_impl::<R, false>(ws, t, y, dy, rec),
             #[cfg(target_arch = "x86_64")]
             SimdBuild::Avx2 if std::arch::is_x86_feature_detected!("avx2") => {
                 // SAFETY: the CPU has AVX2 (checked above).
-                unsafe { self.rhs_avx2(t, y, dy, rec) }
+                unsafe { self.rhs_avx2(ws, t, y, dy, rec) }
             }
             #[cfg(target_arch = "x86_64")]
             SimdBuild::Avx512 if std::arch::is_x86_feature_detected!("avx512f") => {
                 // SAFETY: the CPU has AVX-512F (checked above).
-                unsafe { self.rhs_avx512(t, y, dy, rec) }
+                unsafe { self.rhs_avx512(ws, t, y, dy, rec) }
             }
             _ => return false,
         }
@@ -610,16 +780,30 @@ impl BeltSystem {
     /// (no FMA: it would change rounding).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx512f")]
-    unsafe fn rhs_avx512<R: Recorder>(&self, t: f64, y: &[f64], dy: &mut [f64], rec: &mut R) {
-        self.rhs_impl::<R, true>(t, y, dy, rec);
+    unsafe fn rhs_avx512<R: Recorder>(
+        &self,
+        ws: &mut Workspace,
+        t: f64,
+        y: &[f64],
+        dy: &mut [f64],
+        rec: &mut R,
+    ) {
+        self.rhs_impl::<R, true>(ws, t, y, dy, rec);
     }
 
     /// [`Self::rhs`] compiled for AVX2 (4 doubles per vector instead of
     /// SSE2's 2), no FMA.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn rhs_avx2<R: Recorder>(&self, t: f64, y: &[f64], dy: &mut [f64], rec: &mut R) {
-        self.rhs_impl::<R, true>(t, y, dy, rec);
+    unsafe fn rhs_avx2<R: Recorder>(
+        &self,
+        ws: &mut Workspace,
+        t: f64,
+        y: &[f64],
+        dy: &mut [f64],
+        rec: &mut R,
+    ) {
+        self.rhs_impl::<R, true>(ws, t, y, dy, rec);
     }
 
     /// `WIDE`: compiled into a build with AVX (the layout conversions then
@@ -628,6 +812,7 @@ impl BeltSystem {
     #[inline(always)]
     fn rhs_impl<R: Recorder, const WIDE: bool>(
         &self,
+        ws: &mut Workspace,
         t: f64,
         y: &[f64],
         dy: &mut [f64],
@@ -636,17 +821,9 @@ impl BeltSystem {
         let n = self.n;
         let np = self.np;
         assert!(y.len() >= self.dim() && dy.len() >= self.dim());
-        let mut local = None;
-        let mut guard = match self.scratch.0.try_lock() {
-            Ok(g) => Some(g),
-            Err(TryLockError::Poisoned(p)) => Some(p.into_inner()),
-            // in use by another thread: a block of our own
-            Err(TryLockError::WouldBlock) => None,
-        };
-        let blk: &mut Block = match guard.as_mut() {
-            Some(g) => g,
-            None => local.insert(Block::new()),
-        };
+        let blk: &mut Block = &mut ws.block;
+        let mut buf = [PulleyConst::NONE; MAX_PULLEYS];
+        let pulleys = self.pulleys_in_effect(&mut buf);
 
         let mut omega_p = [0.0; MAX_PULLEYS];
         for (j, w) in omega_p.iter_mut().enumerate().take(np) {
@@ -659,8 +836,18 @@ impl BeltSystem {
         while i0 < n {
             let len = BLOCK.min(n - i0);
             let first = i0 == 0;
-            p_diss +=
-                self.block::<R, WIDE>(blk, i0, len, first, y, dy, &omega_p, &mut belt_torque, rec);
+            p_diss += self.block::<R, WIDE>(
+                blk,
+                pulleys,
+                i0,
+                len,
+                first,
+                y,
+                dy,
+                &omega_p,
+                &mut belt_torque,
+                rec,
+            );
             i0 += len;
             if i0 < n {
                 blk.carry(len);
@@ -670,7 +857,7 @@ impl BeltSystem {
         // Pulleys (eq. 24).
         let mut p_in = 0.0;
         for j in 0..np {
-            let pc = &self.pulleys[j];
+            let pc = &pulleys[j];
             let o = self.pulley_offset(j);
             let w = omega_p[j];
             let applied = self.applied_torque(j, t);
@@ -729,6 +916,7 @@ impl BeltSystem {
     fn block<R: Recorder, const WIDE: bool>(
         &self,
         b: &mut Block,
+        pulleys: &[PulleyConst; MAX_PULLEYS],
         i0: usize,
         len: usize,
         first: bool,
@@ -827,14 +1015,14 @@ impl BeltSystem {
             b.dz[j] = 0.0;
         }
         let fr = self.friction;
-        for (q, pc) in self.pulleys[..self.np].iter().enumerate() {
+        for (q, pc) in pulleys[..self.np].iter().enumerate() {
             let surface = omega_p[q] * pc.lever;
             let (torque, diss) = if fr.law == FrictionLaw::Creep {
-                self.contacts(b, i0, len, q, surface, rec, move |v, z, ms, mk| {
+                self.contacts(b, i0, len, q, pc, surface, rec, move |v, z, ms, mk| {
                     fr.creep_coefficient(v, z, ms, mk)
                 })
             } else {
-                self.contacts(b, i0, len, q, surface, rec, move |v, z, ms, mk| {
+                self.contacts(b, i0, len, q, pc, surface, rec, move |v, z, ms, mk| {
                     fr.kubas_coefficient(v, z, ms, mk)
                 })
             };
@@ -844,7 +1032,7 @@ impl BeltSystem {
 
         // (4) Accelerations (eq. 20-23): own forces, the left SDE (j) and
         // the right SDE (j + 1) of each body.
-        let (inv_m, inv_i, c) = (self.inv_mass, self.inv_inertia, self.relax_damping);
+        let (inv_m, inv_i, c) = (self.inv_mass, self.inv_inertia, self.relaxation.damping);
         for j in 0..len {
             let m = j + 1;
             b.ax[j] = (b.ofx[j] - b.fx[j] + b.fx[j + 1]) * inv_m - c * b.vx[m];
@@ -869,11 +1057,11 @@ impl BeltSystem {
         i0: usize,
         len: usize,
         q: usize,
+        pc: &PulleyConst,
         surface: f64,
         rec: &mut R,
         mu: impl Fn(f64, f64, f64, f64) -> f64,
     ) -> (f64, f64) {
-        let pc = &self.pulleys[q];
         // the bodies lo..hi span every body inside the circle (usually one
         // arc); the rest of the block is skipped
         let (mut lo, mut hi) = (len, 0);
@@ -1086,13 +1274,14 @@ fn contact_arc(
         lever,
         mu_s,
         mu_k,
+        inv_p_max,
         ..
     } = *pc;
     let (law, friction) = (sys.contact, sys.friction);
     for i in 0..k {
         let z = zs[i];
         let kin = contact::kinematics([xs[i] - cx, ys[i] - cy], [vxs[i], vys[i]], radius, surface);
-        let (normal, elastic) = law.normal_force(kin.p, kin.p_dot);
+        let (normal, elastic) = law.normal_force(kin.p, kin.p_dot, inv_p_max);
         let zf = zfs[i];
         let f = mu(kin.v_t, z, mu_s * zf, mu_k * zf) * normal; // eq. 19, along +tau
         let [fx, fy] = contact::force(&kin, normal, f);

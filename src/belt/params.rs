@@ -143,7 +143,8 @@ pub struct ContactParams {
     pub c2: f64,
     /// Contact damping per unit belt length [N s/m^2] (eq. 9: b = value * l).
     pub damping: f64,
-    /// Penetration of full damping, eq. 10-11 [m].
+    /// Penetration of full damping, eq. 10-11 [m]; 0 = automatic, per
+    /// pulley from its equilibrium penetration (`elements::contact::auto_p_max`).
     pub p_max: f64,
 }
 
@@ -234,9 +235,15 @@ pub const CREEP_DAMPING_TIME: f64 = 3e-4;
 /// Same for section 3 (0.2530*2 + 2*pi*0.08125 m belt, 60 bodies).
 const PAPER3_BODY_LENGTH: f64 = (2.0 * 0.253 + 2.0 * std::f64::consts::PI * 0.08125) / 60.0;
 
+/// The FMU's default drive: the paper's section-4 drive with the contact
+/// damping ramp chosen automatically per pulley (`contact.pMax` = 0; the
+/// paper's 1 mm leaves the radial contact mode of most belts undamped,
+/// docs/model.md "Contact").
 impl Default for DriveParams {
     fn default() -> Self {
-        Self::kubas_section4()
+        let mut p = Self::kubas_section4();
+        p.contact.p_max = 0.0;
+        p
     }
 }
 
@@ -433,7 +440,7 @@ impl DriveParams {
             c.c2,
         )?;
         non_negative("contact.damping", c.damping)?;
-        positive("contact.pMax", c.p_max)?;
+        non_negative("contact.pMax", c.p_max)?;
         let f = &self.friction;
         positive("friction.dv", f.dv)?;
         positive("friction.creepMax", f.creep_max)?;

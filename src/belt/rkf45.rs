@@ -68,42 +68,63 @@ impl Rkf45 {
     /// build of the same loops where the CPU has it (same operations, no
     /// FMA: the same results to the last bit; the stage combinations cost
     /// about as much as the belt's right-hand side).
-    fn trial<S: OdeSystem>(&mut self, sys: &S, t: f64, y: &[f64], h: f64) -> f64 {
+    fn trial<S: OdeSystem>(
+        &mut self,
+        sys: &S,
+        ws: &mut S::Workspace,
+        t: f64,
+        y: &[f64],
+        h: f64,
+    ) -> f64 {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the CPU has AVX2 (checked above).
-            return unsafe { self.trial_avx2(sys, t, y, h) };
+            return unsafe { self.trial_avx2(sys, ws, t, y, h) };
         }
-        self.trial_impl(sys, t, y, h)
+        self.trial_impl(sys, ws, t, y, h)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn trial_avx2<S: OdeSystem>(&mut self, sys: &S, t: f64, y: &[f64], h: f64) -> f64 {
-        self.trial_impl(sys, t, y, h)
+    unsafe fn trial_avx2<S: OdeSystem>(
+        &mut self,
+        sys: &S,
+        ws: &mut S::Workspace,
+        t: f64,
+        y: &[f64],
+        h: f64,
+    ) -> f64 {
+        self.trial_impl(sys, ws, t, y, h)
     }
 
     #[inline(always)]
-    fn trial_impl<S: OdeSystem>(&mut self, sys: &S, t: f64, y: &[f64], h: f64) -> f64 {
+    fn trial_impl<S: OdeSystem>(
+        &mut self,
+        sys: &S,
+        ws: &mut S::Workspace,
+        t: f64,
+        y: &[f64],
+        h: f64,
+    ) -> f64 {
         let [k1, k2, k3, k4, k5, k6] = &mut self.k;
         let tmp = &mut self.tmp;
-        sys.rhs(t, y, k1);
+        sys.rhs(ws, t, y, k1);
         for i in 0..y.len() {
             tmp[i] = y[i] + h * A2[0] * k1[i];
         }
-        sys.rhs(t + C[1] * h, tmp, k2);
+        sys.rhs(ws, t + C[1] * h, tmp, k2);
         for i in 0..y.len() {
             tmp[i] = y[i] + h * (A3[0] * k1[i] + A3[1] * k2[i]);
         }
-        sys.rhs(t + C[2] * h, tmp, k3);
+        sys.rhs(ws, t + C[2] * h, tmp, k3);
         for i in 0..y.len() {
             tmp[i] = y[i] + h * (A4[0] * k1[i] + A4[1] * k2[i] + A4[2] * k3[i]);
         }
-        sys.rhs(t + C[3] * h, tmp, k4);
+        sys.rhs(ws, t + C[3] * h, tmp, k4);
         for i in 0..y.len() {
             tmp[i] = y[i] + h * (A5[0] * k1[i] + A5[1] * k2[i] + A5[2] * k3[i] + A5[3] * k4[i]);
         }
-        sys.rhs(t + C[4] * h, tmp, k5);
+        sys.rhs(ws, t + C[4] * h, tmp, k5);
         for i in 0..y.len() {
             tmp[i] = y[i]
                 + h * (A6[0] * k1[i]
@@ -112,7 +133,7 @@ impl Rkf45 {
                     + A6[3] * k4[i]
                     + A6[4] * k5[i]);
         }
-        sys.rhs(t + C[5] * h, tmp, k6);
+        sys.rhs(ws, t + C[5] * h, tmp, k6);
         self.control.stats.rhs_evals += 6;
         let mut sum = 0.0;
         for i in 0..y.len() {
@@ -137,11 +158,12 @@ impl Rkf45 {
     pub fn advance<S: OdeSystem>(
         &mut self,
         sys: &S,
+        ws: &mut S::Workspace,
         t: &mut f64,
         y: &mut [f64],
         t_end: f64,
     ) -> Result<(), StepFailure> {
-        super::stepping::advance(self, sys, t, y, t_end)
+        super::stepping::advance(self, sys, ws, t, y, t_end)
     }
 }
 
@@ -150,8 +172,8 @@ impl<S: OdeSystem> EmbeddedMethod<S> for Rkf45 {
         &mut self.control
     }
 
-    fn trial(&mut self, sys: &S, t: f64, y: &[f64], h: f64) -> f64 {
-        Rkf45::trial(self, sys, t, y, h)
+    fn trial(&mut self, sys: &S, ws: &mut S::Workspace, t: f64, y: &[f64], h: f64) -> f64 {
+        Rkf45::trial(self, sys, ws, t, y, h)
     }
 
     fn take_step(&mut self, y: &mut [f64]) {
@@ -176,10 +198,12 @@ mod tests {
     /// Harmonic oscillator y'' = -y.
     struct Osc;
     impl OdeSystem for Osc {
+        type Workspace = ();
         fn dim(&self) -> usize {
             2
         }
-        fn rhs(&self, _t: f64, y: &[f64], dy: &mut [f64]) {
+        fn workspace(&self) {}
+        fn rhs(&self, _: &mut (), _t: f64, y: &[f64], dy: &mut [f64]) {
             dy[0] = y[1];
             dy[1] = -y[0];
         }
@@ -192,7 +216,7 @@ mod tests {
             let mut rk = Rkf45::new(2, tol, tol, 1e-3, 1_000_000);
             let mut y = [1.0, 0.0];
             let mut t = 0.0;
-            rk.advance(&Osc, &mut t, &mut y, 10.0).unwrap();
+            rk.advance(&Osc, &mut (), &mut t, &mut y, 10.0).unwrap();
             assert_eq!(t, 10.0);
             let err = (y[0] - 10f64.cos()).abs() + (y[1] + 10f64.sin()).abs();
             assert!(err < 100.0 * tol, "tol {tol}: err {err}");
@@ -208,7 +232,7 @@ mod tests {
         let mut t = 0.0;
         for k in 1..=100 {
             let t_end = k as f64 * 0.0123;
-            rk.advance(&Osc, &mut t, &mut y, t_end).unwrap();
+            rk.advance(&Osc, &mut (), &mut t, &mut y, t_end).unwrap();
             assert_eq!(t, t_end);
         }
         assert!(
@@ -221,10 +245,12 @@ mod tests {
     /// A ring of 37 coupled states: long enough for the vector loops.
     struct Ring;
     impl OdeSystem for Ring {
+        type Workspace = ();
         fn dim(&self) -> usize {
             37
         }
-        fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
+        fn workspace(&self) {}
+        fn rhs(&self, _: &mut (), t: f64, y: &[f64], dy: &mut [f64]) {
             for i in 0..37 {
                 dy[i] = y[(i + 1) % 37] - 1.3 * y[i] + t.sin();
             }
@@ -242,8 +268,8 @@ mod tests {
                 .map(|i| ((k * 37 + i) as f64 * 0.37).sin())
                 .collect();
             let (t, h) = (0.1 * k as f64, 0.013 * (k + 1) as f64);
-            let ea = a.trial(&Ring, t, &y, h);
-            let eb = b.trial_impl(&Ring, t, &y, h);
+            let ea = a.trial(&Ring, &mut (), t, &y, h);
+            let eb = b.trial_impl(&Ring, &mut (), t, &y, h);
             assert_eq!(ea.to_bits(), eb.to_bits());
             for (x, z) in a.tmp.iter().zip(&b.tmp) {
                 assert_eq!(x.to_bits(), z.to_bits());
@@ -256,7 +282,9 @@ mod tests {
         let mut rk = Rkf45::new(2, 1e-12, 1e-12, 1e-3, 5);
         let mut y = [1.0, 0.0];
         let mut t = 0.5;
-        let err = rk.advance(&Osc, &mut t, &mut y, 100.0).unwrap_err();
+        let err = rk
+            .advance(&Osc, &mut (), &mut t, &mut y, 100.0)
+            .unwrap_err();
         assert!(matches!(err, StepFailure::TooManySteps { .. }));
         assert_eq!((t, y), (0.5, [1.0, 0.0]));
     }

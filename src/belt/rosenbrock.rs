@@ -33,8 +33,9 @@ pub trait StiffSystem: OdeSystem {
     /// Overwrites `b` with the solution x of `(I - c J) x = b`.
     fn solve(&self, jac: &Self::Jacobian, m: &mut Self::Matrix, b: &mut [f64]);
     /// Which components enter the error norm (1) and which not (0): those
-    /// that only carry the fast modes the method is meant to damp.
-    fn error_mask(&self, mask: &mut [f64]) {
+    /// that only carry the fast modes the method is meant to damp; weights
+    /// in between may depend on the relative tolerance `rel_tol`.
+    fn error_mask(&self, _rel_tol: f64, mask: &mut [f64]) {
         mask.fill(1.0);
     }
     /// Appends the Jacobian's numbers to `out` / reads them back (false if
@@ -185,7 +186,7 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
     pub fn new(sys: &Sys, rel_tol: f64, abs_tol: f64, h0: f64, max_steps: u64) -> Self {
         let dim = sys.dim();
         let mut mask = vec![1.0; dim];
-        sys.error_mask(&mut mask);
+        sys.error_mask(rel_tol, &mut mask);
         let controlled = mask.iter().filter(|&&m| m != 0.0).count().max(1);
         Self {
             mask,
@@ -265,23 +266,30 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
     /// `self.stage`; returns the weighted RMS error norm (infinite if the
     /// iteration matrix is singular). Runs an AVX2 build of the same loops
     /// where the CPU has it (no FMA: the same results to the last bit).
-    fn trial(&mut self, sys: &Sys, t: f64, y: &[f64], h: f64) -> f64 {
+    fn trial(&mut self, sys: &Sys, ws: &mut Sys::Workspace, t: f64, y: &[f64], h: f64) -> f64 {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the CPU has AVX2 (checked above).
-            return unsafe { self.trial_avx2(sys, t, y, h) };
+            return unsafe { self.trial_avx2(sys, ws, t, y, h) };
         }
-        self.trial_impl(sys, t, y, h)
+        self.trial_impl(sys, ws, t, y, h)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn trial_avx2(&mut self, sys: &Sys, t: f64, y: &[f64], h: f64) -> f64 {
-        self.trial_impl(sys, t, y, h)
+    unsafe fn trial_avx2(
+        &mut self,
+        sys: &Sys,
+        ws: &mut Sys::Workspace,
+        t: f64,
+        y: &[f64],
+        h: f64,
+    ) -> f64 {
+        self.trial_impl(sys, ws, t, y, h)
     }
 
     #[inline(always)]
-    fn trial_impl(&mut self, sys: &Sys, t: f64, y: &[f64], h: f64) -> f64 {
+    fn trial_impl(&mut self, sys: &Sys, ws: &mut Sys::Workspace, t: f64, y: &[f64], h: f64) -> f64 {
         if self.jac_age.is_none() {
             sys.jacobian(t, y, &mut self.jac);
             self.jacobians += 1;
@@ -304,7 +312,7 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
             for j in 0..i {
                 axpy(T.a[i][j], &self.u[j], stage);
             }
-            sys.rhs(t + T.alpha[i] * h, stage, &mut self.f);
+            sys.rhs(ws, t + T.alpha[i] * h, stage, &mut self.f);
             self.control.stats.rhs_evals += 1;
             // right-hand side of (I - c J) U_i = c (f + sum c_ij/h U_j)
             let (done, rest) = self.u.split_at_mut(i);
@@ -345,11 +353,12 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
     pub fn advance(
         &mut self,
         sys: &Sys,
+        ws: &mut Sys::Workspace,
         t: &mut f64,
         y: &mut [f64],
         t_end: f64,
     ) -> Result<(), StepFailure> {
-        super::stepping::advance(self, sys, t, y, t_end)
+        super::stepping::advance(self, sys, ws, t, y, t_end)
     }
 }
 
@@ -368,8 +377,8 @@ impl<Sys: StiffSystem> EmbeddedMethod<Sys> for Rosenbrock<Sys> {
         &mut self.control
     }
 
-    fn trial(&mut self, sys: &Sys, t: f64, y: &[f64], h: f64) -> f64 {
-        Rosenbrock::trial(self, sys, t, y, h)
+    fn trial(&mut self, sys: &Sys, ws: &mut Sys::Workspace, t: f64, y: &[f64], h: f64) -> f64 {
+        Rosenbrock::trial(self, sys, ws, t, y, h)
     }
 
     fn take_step(&mut self, y: &mut [f64]) {
@@ -424,10 +433,12 @@ mod tests {
     }
 
     impl<F: Fn(f64, &[f64], &mut [f64]) + Clone> OdeSystem for Dense<F> {
+        type Workspace = ();
         fn dim(&self) -> usize {
             self.n
         }
-        fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
+        fn workspace(&self) {}
+        fn rhs(&self, _: &mut (), t: f64, y: &[f64], dy: &mut [f64]) {
             (self.f)(t, y, dy)
         }
     }
@@ -498,7 +509,8 @@ mod tests {
             let steps = (1.0 / h).round() as usize;
             for k in 1..=steps {
                 ros.control.h = h;
-                ros.advance(&sys, &mut t, &mut y, k as f64 * h).unwrap();
+                ros.advance(&sys, &mut (), &mut t, &mut y, k as f64 * h)
+                    .unwrap();
             }
             y
         };
@@ -534,7 +546,7 @@ mod tests {
         let mut ros = Rosenbrock::new(&sys, 1e-6, 1e-8, 1e-3, 100_000);
         let mut y = vec![1.0];
         let mut t = 0.0;
-        ros.advance(&sys, &mut t, &mut y, 2.0).unwrap();
+        ros.advance(&sys, &mut (), &mut t, &mut y, 2.0).unwrap();
         assert_eq!(t, 2.0);
         assert!((y[0] - 2f64.cos()).abs() < 1e-6, "{}", y[0]);
         // An explicit method would need ~1e6 steps (stability h < 2.8e-6).
@@ -558,7 +570,8 @@ mod tests {
             let mut y = vec![1.0, 0.0];
             let mut t = 0.0;
             for k in 1..=100 {
-                ros.advance(&sys, &mut t, &mut y, k as f64 * 0.1).unwrap();
+                ros.advance(&sys, &mut (), &mut t, &mut y, k as f64 * 0.1)
+                    .unwrap();
                 assert_eq!(t, k as f64 * 0.1);
             }
             let err = (y[0] - 10f64.cos()).abs() + (y[1] + 10f64.sin()).abs();
@@ -568,7 +581,7 @@ mod tests {
         let mut ros = Rosenbrock::new(&sys, 1e-12, 1e-12, 1e-3, 3);
         let mut y = vec![1.0, 0.0];
         let mut t = 0.25;
-        assert!(ros.advance(&sys, &mut t, &mut y, 50.0).is_err());
+        assert!(ros.advance(&sys, &mut (), &mut t, &mut y, 50.0).is_err());
         assert_eq!((t, y), (0.25, vec![1.0, 0.0]));
     }
 
@@ -594,9 +607,9 @@ mod tests {
         let y: Vec<f64> = (0..11).map(|k| (k as f64 * 0.37).cos()).collect();
         let mut base = Rosenbrock::new(&sys, 1e-6, 1e-8, 1e-3, 100);
         let mut wide = base.clone();
-        let e_base = base.trial_impl(&sys, 0.1, &y, 0.05);
+        let e_base = base.trial_impl(&sys, &mut (), 0.1, &y, 0.05);
         // SAFETY: the CPU has AVX2 (checked above).
-        let e_wide = unsafe { wide.trial_avx2(&sys, 0.1, &y, 0.05) };
+        let e_wide = unsafe { wide.trial_avx2(&sys, &mut (), 0.1, &y, 0.05) };
         assert!(e_base > 0.0 && e_base.is_finite());
         assert_eq!(e_base.to_bits(), e_wide.to_bits());
         let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();

@@ -5,8 +5,15 @@
 
 /// An ODE y' = f(t, y) with a discrete update after each accepted step.
 pub trait OdeSystem {
+    /// Scratch of an evaluation of the right-hand side, owned by the
+    /// caller of the integrator (`()` if the system needs none).
+    type Workspace;
+    /// Length of the state vector.
     fn dim(&self) -> usize;
-    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]);
+    /// A workspace for [`Self::rhs`].
+    fn workspace(&self) -> Self::Workspace;
+    /// dy = f(t, y), with scratch `ws`.
+    fn rhs(&self, ws: &mut Self::Workspace, t: f64, y: &[f64], dy: &mut [f64]);
     /// Called with the new state after every accepted step.
     fn after_step(&self, _y: &mut [f64]) {}
 }
@@ -69,11 +76,11 @@ impl StepControl {
 }
 
 /// An embedded pair as the driver sees it.
-pub trait EmbeddedMethod<S: ?Sized> {
+pub trait EmbeddedMethod<S: OdeSystem + ?Sized> {
     fn control(&mut self) -> &mut StepControl;
     /// One trial step of size `h` from (t, y); keeps the candidate state and
     /// returns the scaled error norm (non-finite when the step failed).
-    fn trial(&mut self, sys: &S, t: f64, y: &[f64], h: f64) -> f64;
+    fn trial(&mut self, sys: &S, ws: &mut S::Workspace, t: f64, y: &[f64], h: f64) -> f64;
     /// Copies the candidate of the last trial into `y`.
     fn take_step(&mut self, y: &mut [f64]);
     /// Factor on h for scaled error `err` (rejected or accepted).
@@ -95,6 +102,7 @@ pub trait EmbeddedMethod<S: ?Sized> {
 pub fn advance<S, M>(
     method: &mut M,
     sys: &S,
+    ws: &mut S::Workspace,
     t: &mut f64,
     y: &mut [f64],
     t_end: f64,
@@ -107,7 +115,7 @@ where
     let c = method.control();
     c.backup.copy_from_slice(y);
     let (h_start, last_step) = (c.h, c.stats.last_step);
-    let result = advance_inner(method, sys, t, y, t_end);
+    let result = advance_inner(method, sys, ws, t, y, t_end);
     if result.is_err() {
         let c = method.control();
         y.copy_from_slice(&c.backup);
@@ -122,6 +130,7 @@ where
 fn advance_inner<S, M>(
     method: &mut M,
     sys: &S,
+    ws: &mut S::Workspace,
     t: &mut f64,
     y: &mut [f64],
     t_end: f64,
@@ -145,7 +154,7 @@ where
         if h < h_min && !last {
             return Err(StepFailure::StepTooSmall { t: *t, h });
         }
-        let err = method.trial(sys, *t, y, h);
+        let err = method.trial(sys, ws, *t, y, h);
         if !err.is_finite() {
             non_finite += 1;
             method.control().stats.rejected += 1;

@@ -12,7 +12,7 @@ use std::panic::{self, AssertUnwindSafe};
 use std::ptr;
 
 use super::description::VarType;
-use super::instance::{allowed, Instance};
+use super::instance::{allowed, Instance, Mode};
 use super::logging::{self, Logger, LOG_EVENTS, LOG_STATUS_DISCARD, LOG_STATUS_ERROR};
 use super::model::FmuModel;
 use super::state::Snapshot;
@@ -708,7 +708,8 @@ pub unsafe fn cancel_step<M: FmuModel>(c: Fmi2Component) -> Fmi2Status {
 pub enum StatusValue {
     /// `fmi2LastSuccessfulTime`: the current communication point.
     LastSuccessfulTime(f64),
-    /// `fmi2Terminated`: whether the model asks to stop.
+    /// `fmi2Terminated`: whether the instance asks to stop (after a
+    /// discarded step).
     Terminated(bool),
 }
 
@@ -731,8 +732,17 @@ fn status_query<M: FmuModel>(
             "fmi2LastSuccessfulTime",
             Some(StatusValue::LastSuccessfulTime(inst.plumbing.time)),
         ),
-        // This FMU never asks to stop the simulation.
-        FMI2_TERMINATED => ("fmi2Terminated", Some(StatusValue::Terminated(false))),
+        // After a discarded step the instance can only be terminated, reset
+        // or restored with fmi2SetFMUstate (fmi2DoStep is not allowed in
+        // slaveStepFailed, FMI 2.0 section 4.2.4): it asks to stop, so that a
+        // master that checks fmi2Terminated ends the run at the last
+        // successful time instead of retrying the step.
+        FMI2_TERMINATED => (
+            "fmi2Terminated",
+            Some(StatusValue::Terminated(
+                inst.plumbing.mode == Mode::StepFailed,
+            )),
+        ),
         other => return Err(format!("invalid fmi2StatusKind {other}")),
     };
     let fits = matches!(

@@ -729,7 +729,7 @@ fn discard_keeps_last_good_time_and_state_restores() {
         unsafe { api::get_boolean_status::<Mock>(f.c, FMI2_TERMINATED, &mut term) },
         OK
     );
-    assert_eq!(term, FMI2_FALSE);
+    assert_eq!(term, FMI2_TRUE, "after a discard the instance asks to stop");
     let mut st = OK;
     assert_eq!(
         unsafe {
@@ -751,6 +751,11 @@ fn discard_keeps_last_good_time_and_state_restores() {
     assert_eq!(unsafe { api::set_fmu_state::<Mock>(f.c, s) }, OK);
     assert_eq!(f.mode(), super::instance::Mode::StepComplete);
     assert_eq!(f.step(0.1, 0.05), OK);
+    assert_eq!(
+        unsafe { api::get_boolean_status::<Mock>(f.c, FMI2_TERMINATED, &mut term) },
+        OK
+    );
+    assert_eq!(term, FMI2_FALSE, "restored and stepping again");
     assert_eq!(unsafe { api::free_fmu_state::<Mock>(f.c, &mut s) }, OK);
     assert!(s.is_null());
     assert_eq!(

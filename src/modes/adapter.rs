@@ -121,9 +121,9 @@ pub fn linearise(drive: &Drive) -> Linearisation {
         time: t,
         jacobian: jac.to_dense(sys),
         dim: sys.dim(),
-        n: sys.n,
-        mass: sys.mass,
-        inertia: sys.inertia,
+        n: sys.n_bodies(),
+        mass: sys.mass(),
+        inertia: sys.inertia(),
         body_length: layout.body_length,
         pulleys,
         spans: layout
@@ -164,7 +164,7 @@ pub fn span_tensions_and_speed(drive: &mut Drive) -> (Vec<f64>, f64) {
     let np = drive.params().pulleys.len();
     let o = drive.outputs();
     let y = drive.state();
-    let n = drive.system().n;
+    let n = drive.system().n_bodies();
     let v = (0..n)
         .map(|i| y[BODY_DOF * i + 3].hypot(y[BODY_DOF * i + 4]))
         .sum::<f64>()

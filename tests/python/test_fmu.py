@@ -8,6 +8,7 @@ from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import (
     FMU2Slave,
     fmi2LastSuccessfulTime,
+    fmi2Terminated,
     fmi2CallbackFunctions,
     fmi2CallbackLoggerTYPE,
     fmi2CallbackAllocateMemoryTYPE,
@@ -399,10 +400,25 @@ def test_discarded_step_reports_last_successful_time(md, unzipdir):
     assert refused.value.status == 2  # fmi2Discard
     assert any("solver.maxSteps" in m for _, _, m in h.log[n:]), h.log[n:]
     assert h.fmu.getRealStatus(fmi2LastSuccessfulTime) == 2e-5
+    # fmi2DoStep is not allowed after a discard: the instance asks to stop
+    assert h.fmu.getBooleanStatus(fmi2Terminated)
     # (the solver.* counters may include the discarded attempt's work)
     assert h.get(*physical) == before
     h.fmu.terminate()
     h.fmu.freeInstance()
+
+
+def test_fmpy_ends_a_discarded_run_at_the_last_successful_time(fmu_path):
+    """FMPy's simulate_fmu asks fmi2Terminated after fmi2Discard: the FMU says
+    yes, so the run ends cleanly at the last successful communication point
+    with the results so far (instead of retrying the step, which fmi2DoStep
+    refuses in the step-failed state)."""
+    res = simulate_fmu(fmu_path, stop_time=0.05, output_interval=1e-3,
+                       start_values={"solver.maxSteps": 300},
+                       output=["pulley[2].omega"])
+    assert res["time"][0] == 0.0
+    assert res["time"][-1] < 0.05  # stopped early, no exception
+    assert np.all(np.isfinite(res["pulley[2].omega"]))
 
 
 def test_communication_points_exact(h):

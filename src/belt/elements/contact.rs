@@ -13,7 +13,10 @@ pub fn smoothstep(x: f64) -> f64 {
     x * x * (3.0 - 2.0 * x)
 }
 
-/// Penalty law of one body (constants already multiplied by the body length).
+/// Penalty law of one body (constants already multiplied by the body
+/// length). The damping ramp's length p_max (eq. 10-11) belongs to the
+/// pulley (each wrap has its own equilibrium penetration, see
+/// [`auto_p_max`]): the methods take its inverse `inv_p_max`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[allow(missing_docs)]
 pub struct ContactLaw {
@@ -23,8 +26,27 @@ pub struct ContactLaw {
     pub c2: f64,
     /// Damping [N s/m].
     pub b: f64,
-    /// 1 / p_max [1/m].
-    pub inv_p_max: f64,
+}
+
+/// The damping ramp's length p_max when `contact.pMax` = 0 (automatic):
+/// this multiple of the pulley's equilibrium penetration p0 under the
+/// preload (docs/model.md, "Contact"). 0.5 puts the full damping b at the
+/// mounted penetration and keeps half of it down to a quarter of the
+/// preload's normal force (linear stiffness), i.e. on the slack side of a
+/// loaded drive too, while the ramp still spans the range of penetrations a
+/// body passes through when it lands.
+pub const AUTO_P_MAX_PER_PENETRATION: f64 = 0.5;
+
+/// p_max [m] of a wrap with equilibrium penetration `p0` [m] for the
+/// user's `contact.pMax` `p_max`: the user's value, or with 0 the automatic
+/// [`AUTO_P_MAX_PER_PENETRATION`] x p0 (at least 1e-9 m, for a wrap that
+/// carries no force at mounting).
+pub fn auto_p_max(p_max: f64, p0: f64) -> f64 {
+    if p_max > 0.0 {
+        p_max
+    } else {
+        (AUTO_P_MAX_PER_PENETRATION * p0).max(1e-9)
+    }
 }
 
 /// Derivative of [`smoothstep`].
@@ -39,36 +61,35 @@ pub fn smoothstep_slope(x: f64) -> f64 {
 
 impl ContactLaw {
     /// Normal force for penetration `p` > 0 and penetration rate `p_dot`
-    /// (eq. 9), never negative (the belt cannot pull on the pulley), and its
-    /// elastic part.
+    /// (eq. 9) on a pulley whose damping ramp is `1 / inv_p_max` long, never
+    /// negative (the belt cannot pull on the pulley), and its elastic part.
     #[inline(always)]
-    pub fn normal_force(&self, p: f64, p_dot: f64) -> (f64, f64) {
+    pub fn normal_force(&self, p: f64, p_dot: f64, inv_p_max: f64) -> (f64, f64) {
         let elastic = (self.c1 * p + self.c2) * p;
-        let n = elastic + smoothstep(p * self.inv_p_max) * self.b * p_dot;
+        let n = elastic + smoothstep(p * inv_p_max) * self.b * p_dot;
         (n.max(0.0), elastic)
     }
 
     /// Damping ratio of a body of `mass` bouncing on the pulley at
     /// penetration `p`: delta(p) b / (2 sqrt(k m)) with the tangent
     /// stiffness k = 2 c1 p + c2 (eq. 9-11).
-    pub fn damping_ratio(&self, p: f64, mass: f64) -> f64 {
+    pub fn damping_ratio(&self, p: f64, mass: f64, inv_p_max: f64) -> f64 {
         let k = 2.0 * self.c1 * p + self.c2;
-        smoothstep(p * self.inv_p_max) * self.b / (2.0 * (k * mass).sqrt())
+        smoothstep(p * inv_p_max) * self.b / (2.0 * (k * mass).sqrt())
     }
 
     /// [`normal_force`](Self::normal_force) with its partial derivatives
     /// `(N, dN/dp, dN/dp_dot)` (zero where the clamp at 0 is active), for the
     /// Jacobian of the implicit integrator.
     #[inline(always)]
-    pub fn normal_force_jac(&self, p: f64, p_dot: f64) -> (f64, f64, f64) {
-        let x = p * self.inv_p_max;
+    pub fn normal_force_jac(&self, p: f64, p_dot: f64, inv_p_max: f64) -> (f64, f64, f64) {
+        let x = p * inv_p_max;
         let s = smoothstep(x);
         let n = (self.c1 * p + self.c2) * p + s * self.b * p_dot;
         if n <= 0.0 {
             return (0.0, 0.0, 0.0);
         }
-        let dn_dp =
-            2.0 * self.c1 * p + self.c2 + smoothstep_slope(x) * self.inv_p_max * self.b * p_dot;
+        let dn_dp = 2.0 * self.c1 * p + self.c2 + smoothstep_slope(x) * inv_p_max * self.b * p_dot;
         (n, dn_dp, s * self.b)
     }
 
@@ -252,6 +273,10 @@ mod tests {
     use crate::belt::elements::friction::Friction;
     use crate::belt::params::FrictionLaw;
 
+    /// 1 / p_max of the tests: a 0.1 mm ramp, so that the test points lie
+    /// on it and beyond it.
+    const INV_P_MAX: f64 = 1e4;
+
     /// The contact force of a body at (x, v, z) on a pulley turning at w,
     /// evaluated as the right-hand side does, and its friction force.
     fn contact(
@@ -264,7 +289,7 @@ mod tests {
     ) -> ([f64; 2], f64) {
         let (radius, lever) = (0.05, 0.0497);
         let k = kinematics(x, v, radius, w * lever);
-        let (normal, _) = law.normal_force(k.p, k.p_dot);
+        let (normal, _) = law.normal_force(k.p, k.p_dot, INV_P_MAX);
         let f = fr.coefficient(k.v_t, z, 1.05, 0.9) * normal;
         (force(&k, normal, f), f)
     }
@@ -282,7 +307,6 @@ mod tests {
             c1: 3.0e9 * 0.01,
             c2: 6.5e5 * 0.01,
             b: 300.0 * 0.01,
-            inv_p_max: 1e4,
         };
         for fl in [FrictionLaw::Kubas2014, FrictionLaw::Creep] {
             let fr = Friction::new(fl, 1e-3, 1e-4, 2e-4);
@@ -295,7 +319,7 @@ mod tests {
                 let (radius, lever) = (0.05, 0.0497);
                 let k = kinematics(x, v, radius, w * lever);
                 assert!(k.p > 0.0);
-                let nj = law.normal_force_jac(k.p, k.p_dot);
+                let nj = law.normal_force_jac(k.p, k.p_dot, INV_P_MAX);
                 let mj = fr.coefficient_jac(k.v_t, z, 1.05, 0.9);
                 let cp = force_partials(&k, v, nj, mj, lever);
                 assert_eq!(cp.f, contact(&law, &fr, x, v, z, w).1);
@@ -391,15 +415,14 @@ mod tests {
             c1: 3.0e9,
             c2: 6.5e5,
             b: 300.0,
-            inv_p_max: 1e4,
         };
+        let nf = |p: f64, pd: f64| law.normal_force(p, pd, INV_P_MAX).0;
         for &(p, pd) in &[(2e-5, 0.01), (5e-5, -0.02), (2e-4, 0.3), (1e-4, 0.0)] {
-            let (n, dp, dpd) = law.normal_force_jac(p, pd);
-            assert_eq!(n, law.normal_force(p, pd).0);
+            let (n, dp, dpd) = law.normal_force_jac(p, pd, INV_P_MAX);
+            assert_eq!(n, nf(p, pd));
             let (e1, e2) = (1e-10, 1e-7);
-            let fp = (law.normal_force(p + e1, pd).0 - law.normal_force(p - e1, pd).0) / (2.0 * e1);
-            let fpd =
-                (law.normal_force(p, pd + e2).0 - law.normal_force(p, pd - e2).0) / (2.0 * e2);
+            let fp = (nf(p + e1, pd) - nf(p - e1, pd)) / (2.0 * e1);
+            let fpd = (nf(p, pd + e2) - nf(p, pd - e2)) / (2.0 * e2);
             assert!((dp - fp).abs() <= 1e-6 * fp.abs().max(1.0), "{dp} {fp}");
             assert!(
                 (dpd - fpd).abs() <= 1e-6 * fpd.abs().max(1.0),
@@ -407,7 +430,10 @@ mod tests {
             );
         }
         // clamped: no force, no slope
-        assert_eq!(law.normal_force_jac(1e-6, -100.0), (0.0, 0.0, 0.0));
+        assert_eq!(
+            law.normal_force_jac(1e-6, -100.0, INV_P_MAX),
+            (0.0, 0.0, 0.0)
+        );
     }
 
     #[test]
@@ -416,16 +442,16 @@ mod tests {
             c1: 3.0e9,
             c2: 6.5e5,
             b: 300.0,
-            inv_p_max: 1e3,
         };
+        let inv_p_max = 1e3;
         let p = 1e-4;
-        let (n, e) = law.normal_force(p, 0.0);
+        let (n, e) = law.normal_force(p, 0.0, inv_p_max);
         assert_eq!(n, e);
         assert!((e - (3.0e9 * p * p + 6.5e5 * p)).abs() < 1e-9);
         // Fast separation: damping would pull; the force is clamped at 0.
-        assert_eq!(law.normal_force(p, -100.0).0, 0.0);
+        assert_eq!(law.normal_force(p, -100.0, inv_p_max).0, 0.0);
         // Energy is the integral of the elastic force (Simpson, exact for cubics).
-        let (f0, fm, f1) = (0.0, law.normal_force(p / 2.0, 0.0).1, e);
+        let (f0, fm, f1) = (0.0, law.normal_force(p / 2.0, 0.0, inv_p_max).1, e);
         assert!((law.energy(p) - p / 6.0 * (f0 + 4.0 * fm + f1)).abs() < 1e-15);
     }
 }

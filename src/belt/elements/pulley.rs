@@ -29,6 +29,9 @@ pub struct PulleyConst {
     pub mu_s: f64,
     /// Kinetic friction coefficient with the belt.
     pub mu_k: f64,
+    /// 1 / p_max of the contact damping ramp on this pulley (eq. 10-11,
+    /// `elements::contact::auto_p_max`) [1/m].
+    pub inv_p_max: f64,
     /// The speed is prescribed (else the torque).
     pub speed_driven: bool,
     /// Viscous load d_load [N m s/rad].
@@ -72,6 +75,7 @@ impl PulleyConst {
         inertia: 0.0,
         mu_s: 0.0,
         mu_k: 0.0,
+        inv_p_max: 0.0,
         speed_driven: false,
         load_damping: 0.0,
         torque_ramp: 0.0,
