@@ -161,7 +161,71 @@ fn scenarios() -> Vec<(&'static str, Vec<(&'static str, Value)>)> {
                 ("pulley[2].grooveAngle", Real(0.698)),
             ],
         ),
+        // tensioner arms: pulley 2 at (0.25, 0) on an arm from (0.25, 0.08)
+        ("tensioner arm", tensioner(vec![])),
+        (
+            "tensioner pivot at the pulley centre",
+            tensioner(vec![("pulley[2].arm.pivot.y", Real(0.0))]),
+        ),
+        (
+            "tensioner with its pivot 1e300 m away",
+            tensioner(vec![("pulley[2].arm.pivot.x", Real(1e300))]),
+        ),
+        (
+            "tensioner pivot at the default (0, 0): a 0.25 m arm",
+            vec![("pulley[2].tensioner", Boolean(true))],
+        ),
+        (
+            "tensioner on pulley 1 at its default pivot (its centre)",
+            vec![("pulley[1].tensioner", Boolean(true))],
+        ),
+        (
+            "tensioner without inertia",
+            tensioner(vec![("pulley[2].arm.inertia", Real(0.0))]),
+        ),
+        (
+            "tensioner of tiny inertia",
+            tensioner(vec![("pulley[2].arm.inertia", Real(1e-300))]),
+        ),
+        (
+            "tensioner with a NaN spring",
+            tensioner(vec![("pulley[2].arm.stiffness", Real(f64::NAN))]),
+        ),
+        (
+            "tensioner with a huge spring",
+            tensioner(vec![("pulley[2].arm.stiffness", Real(1e300))]),
+        ),
+        (
+            "tensioner with huge pivot friction",
+            tensioner(vec![("pulley[2].arm.friction", Real(1e300))]),
+        ),
+        (
+            "tensioner with negative damping",
+            tensioner(vec![("pulley[2].arm.damping", Real(-1.0))]),
+        ),
+        (
+            "tensioners on both pulleys and the stiff method",
+            tensioner(vec![
+                ("pulley[1].tensioner", Boolean(true)),
+                ("pulley[1].arm.pivot.y", Real(-0.08)),
+                ("solver.method", Integer(2)),
+            ]),
+        ),
     ]
+}
+
+/// Pulley 2 of the fast drive on a tensioner arm (pivot 80 mm above its
+/// centre, pivot friction 0.5 N m), then `more`.
+fn tensioner(more: Vec<(&'static str, Value)>) -> Vec<(&'static str, Value)> {
+    use Value::*;
+    let mut v = vec![
+        ("pulley[2].tensioner", Boolean(true)),
+        ("pulley[2].arm.pivot.x", Real(0.25)),
+        ("pulley[2].arm.pivot.y", Real(0.08)),
+        ("pulley[2].arm.friction", Real(0.5)),
+    ];
+    v.extend(more);
+    v
 }
 
 struct Outcome {
@@ -324,12 +388,19 @@ fn adversarial_parameter_sets() {
     let mut rng = Rng::new(seed);
     for _ in 0..sets {
         let n = 1 + rng.below(3);
-        let assignments: Vec<(&str, Value)> = (0..n)
+        let mut assignments: Vec<(&str, Value)> = (0..n)
             .map(|_| {
                 let v = *rng.pick(&params);
                 (v.name, adversarial(&mut rng, v))
             })
             .collect();
+        // a tensioner arm's parameters act only with the arm on: switch it
+        // on (pulley 2, pivot 80 mm above its centre, before them)
+        if assignments.iter().any(|(name, _)| name.contains(".arm.")) {
+            let mut arm = tensioner(vec![]);
+            arm.truncate(3);
+            assignments.splice(0..0, arm);
+        }
         let o = try_set(&fmi, &assignments);
         record(format!("{assignments:?}"), o);
     }

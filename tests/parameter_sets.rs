@@ -136,3 +136,38 @@ fn accessory_drive_with_decoupler_matches_the_plain_one() {
     d.advance(1e-3).unwrap();
     assert!(d.outputs().min_tension > 0.0);
 }
+
+/// The tensioner version: the decoupler set with its back-side idler on an
+/// automatic tensioner arm, nothing else changed; it lays out, mounts with
+/// the spring wound up against the belt, and runs.
+#[test]
+fn accessory_drive_with_tensioner_is_the_decoupler_one_on_an_arm() {
+    let base = apply("accessory-drive-decoupler.ssv")
+        .drive_params()
+        .unwrap();
+    let p = apply("accessory-drive-tensioner.ssv")
+        .drive_params()
+        .unwrap();
+    p.validate().unwrap();
+    let mut arm_off = p.clone();
+    arm_off.pulleys[3].tensioner = false;
+    arm_off.pulleys[3].arm_pivot = base.pulleys[3].arm_pivot;
+    arm_off.pulleys[3].arm_inertia = base.pulleys[3].arm_inertia;
+    arm_off.pulleys[3].arm_stiffness = base.pulleys[3].arm_stiffness;
+    arm_off.pulleys[3].arm_damping = base.pulleys[3].arm_damping;
+    arm_off.pulleys[3].arm_friction = base.pulleys[3].arm_friction;
+    assert_eq!(arm_off, base);
+    let idler = &p.pulleys[3];
+    assert!(idler.tensioner && idler.back_side);
+    let arm = (idler.x - idler.arm_pivot[0]).hypot(idler.y - idler.arm_pivot[1]);
+    assert!((0.07..=0.09).contains(&arm), "arm {arm} m");
+    let mut d = Drive::new(&p, 0.0).expect("lays out");
+    d.advance(1e-3).unwrap();
+    let o = d.outputs();
+    assert!(o.min_tension > 0.0);
+    assert!(
+        o.pulleys[3].arm_free_angle.abs() > 0.1,
+        "{:?}",
+        o.pulleys[3]
+    );
+}

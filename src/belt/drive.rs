@@ -193,6 +193,14 @@ pub struct PulleyOutputs {
     /// driving sense (>= 0; 0 without one) [N m].
     pub rotor_omega: f64,
     pub decoupler_torque: f64,
+    /// Tensioner arm (zero without one): angle from the mounted position
+    /// (counterclockwise positive) [rad], its rate [rad/s], the spring's
+    /// torque on the arm [N m] and the spring's free angle found by the
+    /// mounting [rad].
+    pub arm_angle: f64,
+    pub arm_omega: f64,
+    pub arm_spring_torque: f64,
+    pub arm_free_angle: f64,
 }
 
 /// Forces on the probe body from each pulley (Figs. 16-18).
@@ -299,7 +307,8 @@ impl Recorder for OutputRecorder<'_> {
 fn relax_into_equilibrium(sys: &BeltSystem, ws: &mut Workspace, y: &mut [f64], max_steps: u64) {
     // Contact mode of one body: stiffness dN/dp at the typical penetration.
     let k_contact = sys.contact.c2 + 2.0 * sys.contact.c1 * TUNING.relax_penetration;
-    // Friction off, the pulleys (and a decoupler's rotor) held at rest.
+    // Friction off, the pulleys (and a decoupler's rotor, a tensioner's
+    // arm) held at rest.
     let relax = sys.with_relaxation(Relaxation {
         damping: 2.0 * (k_contact / sys.mass).sqrt(),
         frictionless: true,
@@ -345,6 +354,41 @@ fn relax_into_equilibrium(sys: &BeltSystem, ws: &mut Workspace, y: &mut [f64], m
         if p.decoupler.is_some() {
             y[p.decoupler_offset] = 0.0;
             y[p.decoupler_offset + 1] = 0.0;
+        }
+        if p.arm.is_some() {
+            y[p.arm_offset] = 0.0;
+            y[p.arm_offset + 1] = 0.0;
+        }
+    }
+}
+
+/// Collects the belt's force on every pulley's hub.
+struct HubRecorder([[f64; 2]; MAX_PULLEYS]);
+
+impl Recorder for HubRecorder {
+    const ACTIVE: bool = true;
+    fn hub_force(&mut self, pulley: usize, fx: f64, fy: f64) {
+        self.0[pulley][0] += fx;
+        self.0[pulley][1] += fy;
+    }
+}
+
+/// Mounting of the tensioner arms: with the belt at rest in its static
+/// equilibrium (`y`, arms at their mounted positions), each arm's spring
+/// gets the free angle at which its torque balances the moment of the
+/// belt's hub force about the pivot, `-k (0 - alpha_free) + M_hub = 0`
+/// (`elements::tensioner::Arm::free_angle_for`).
+fn mount_arms(sys: &mut BeltSystem, ws: &mut Workspace, t: f64, y: &[f64]) {
+    if sys.n_arms == 0 {
+        return;
+    }
+    let mut rec = HubRecorder([[0.0; 2]; MAX_PULLEYS]);
+    let mut dy = vec![0.0; y.len()];
+    sys.rhs(ws, t, y, &mut dy, &mut rec);
+    for (j, pc) in sys.pulleys[..sys.np].iter_mut().enumerate() {
+        if let Some(arm) = pc.arm.as_mut() {
+            let moment = arm.moment(y[pc.arm_offset], rec.0[j]).0;
+            arm.free_angle = arm.free_angle_for(moment);
         }
     }
 }
@@ -451,6 +495,7 @@ impl Drive {
             &mut drive.y,
             params.solver.max_steps,
         );
+        mount_arms(&mut drive.sys, &mut drive.ws, drive.t, &drive.y);
         Ok(drive)
     }
 
@@ -596,6 +641,13 @@ impl Drive {
             if self.sys.pulleys[j].decoupler.is_none() {
                 po.rotor_omega = po.omega;
             }
+            if let Some(arm) = &self.sys.pulleys[j].arm {
+                let o = self.sys.pulleys[j].arm_offset;
+                po.arm_angle = self.y[o];
+                po.arm_omega = self.y[o + 1];
+                po.arm_spring_torque = arm.spring_torque(self.y[o]);
+                po.arm_free_angle = arm.free_angle;
+            }
             po.slip = if v1 != 0.0 {
                 1.0 - surface(j) / v1
             } else {
@@ -711,6 +763,30 @@ impl Drive {
         self.sys.inputs = inputs;
         self.integrator
             .restore(&self.sys, h, stats, integrator_data)
+    }
+
+    /// Free angles of the tensioner arms' springs found by the mounting, in
+    /// pulley order (empty without arms); part of a saved state.
+    pub fn arm_free_angles(&self) -> Vec<f64> {
+        self.sys.pulleys[..self.sys.np]
+            .iter()
+            .filter_map(|p| p.arm.map(|a| a.free_angle))
+            .collect()
+    }
+
+    /// Restores what [`arm_free_angles`](Self::arm_free_angles) returned;
+    /// false (nothing changed) if the count does not fit or one is not finite.
+    pub fn set_arm_free_angles(&mut self, angles: &[f64]) -> bool {
+        if angles.len() != self.sys.n_arms || !angles.iter().all(|a| a.is_finite()) {
+            return false;
+        }
+        let arms = self.sys.pulleys[..self.sys.np]
+            .iter_mut()
+            .filter_map(|p| p.arm.as_mut());
+        for (arm, &a) in arms.zip(angles) {
+            arm.free_angle = a;
+        }
+        true
     }
 
     /// Step size the integrator will try next.

@@ -6,9 +6,11 @@
 //!    leaves 3 unknowns per body plus one per torque-driven pulley:
 //!    `S = I - c^2 dA/dq - c dA/dv - (creep terms)`.
 //! 2. S is block tridiagonal with 3x3 blocks, cyclic (the belt is a closed
-//!    loop), plus dense rows and columns for the pulley speeds. Body n-1 and
-//!    the free pulleys form a border of 3 + (free pulleys) unknowns, its size
-//!    a type parameter (no unused rows or columns); bodies 0..n-2 are
+//!    loop), plus dense rows and columns for the pulley speeds and the
+//!    tensioner arms' rates (each arm's angle is eliminated like a body's
+//!    position: d alpha = b_alpha + c d omega_arm). Body n-1, the free
+//!    pulleys and the arms form a border of 3 + (free pulleys) + (arms)
+//!    unknowns, its size a type parameter (no unused rows or columns); bodies 0..n-2 are
 //!    eliminated in order by block Gaussian elimination (fill-in only in the
 //!    border), the border is solved densely (LU with partial pivoting), and
 //!    the bodies are found by back substitution.
@@ -21,14 +23,16 @@ use super::model::{BeltSystem, BODY_DOF};
 use super::params::MAX_PULLEYS;
 use nalgebra::{Matrix2, Matrix3, RowVector3, SMatrix, SVector, Vector2, Vector3};
 
-/// The factors for a border of `NB` unknowns: body n-1 (3) and the free
-/// (torque-driven) pulleys. The border's size is a type parameter so that
-/// its dense products have no unused rows and columns.
+/// The factors for a border of `NB` unknowns: body n-1 (3), the free
+/// (torque-driven) pulleys and the tensioner arms. The border's size is a
+/// type parameter so that its dense products have no unused rows and columns.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Factors<const NB: usize> {
     c: f64,
     /// Border index of pulley j's speed (3 + k), or None if speed-driven.
     slot: [Option<usize>; MAX_PULLEYS],
+    /// Border index of the rate of pulley j's tensioner arm, if it has one.
+    arm_slot: [Option<usize>; MAX_PULLEYS],
     /// Per body i < n-1: inverse of the eliminated diagonal block.
     dinv: Vec<Matrix3<f64>>,
     /// L_i D'_{i-1}^-1 (multiplier of the previous block row).
@@ -52,8 +56,9 @@ pub struct Factors<const NB: usize> {
     dec_h: [Vector2<f64>; MAX_PULLEYS],
 }
 
-/// `I - c J` factored; one variant per border size 3 + free pulleys.
+/// `I - c J` factored; one variant per border size 3 + free pulleys + arms.
 #[derive(Clone, Debug, PartialEq)]
+#[allow(clippy::large_enum_variant)] // one per drive: its size does not matter
 pub enum IterationMatrix {
     B3(Factors<3>),
     B4(Factors<4>),
@@ -62,9 +67,15 @@ pub enum IterationMatrix {
     B7(Factors<7>),
     B8(Factors<8>),
     B9(Factors<9>),
+    B10(Factors<10>),
+    B11(Factors<11>),
+    B12(Factors<12>),
+    B13(Factors<13>),
+    B14(Factors<14>),
+    B15(Factors<15>),
 }
 
-const _: () = assert!(3 + MAX_PULLEYS == 9);
+const _: () = assert!(3 + 2 * MAX_PULLEYS == 15);
 
 macro_rules! each {
     ($m:expr, $f:ident => $e:expr) => {
@@ -76,6 +87,12 @@ macro_rules! each {
             IterationMatrix::B7($f) => $e,
             IterationMatrix::B8($f) => $e,
             IterationMatrix::B9($f) => $e,
+            IterationMatrix::B10($f) => $e,
+            IterationMatrix::B11($f) => $e,
+            IterationMatrix::B12($f) => $e,
+            IterationMatrix::B13($f) => $e,
+            IterationMatrix::B14($f) => $e,
+            IterationMatrix::B15($f) => $e,
         }
     };
 }
@@ -85,18 +102,24 @@ impl IterationMatrix {
         let free = (0..sys.np)
             .filter(|&j| !sys.pulleys[j].speed_driven)
             .count();
-        match 3 + free {
+        match 3 + free + sys.n_arms {
             3 => Self::B3(Factors::new(sys)),
             4 => Self::B4(Factors::new(sys)),
             5 => Self::B5(Factors::new(sys)),
             6 => Self::B6(Factors::new(sys)),
             7 => Self::B7(Factors::new(sys)),
             8 => Self::B8(Factors::new(sys)),
-            _ => Self::B9(Factors::new(sys)),
+            9 => Self::B9(Factors::new(sys)),
+            10 => Self::B10(Factors::new(sys)),
+            11 => Self::B11(Factors::new(sys)),
+            12 => Self::B12(Factors::new(sys)),
+            13 => Self::B13(Factors::new(sys)),
+            14 => Self::B14(Factors::new(sys)),
+            _ => Self::B15(Factors::new(sys)),
         }
     }
 
-    /// Unknowns in the border (3 + free pulleys).
+    /// Unknowns in the border (3 + free pulleys + arms).
     pub fn border_size(&self) -> usize {
         each!(self, f => f.perm.len())
     }
@@ -152,9 +175,17 @@ impl<const NB: usize> Factors<NB> {
                 k += 1;
             }
         }
+        let mut arm_slot = [None; MAX_PULLEYS];
+        for (j, s) in arm_slot.iter_mut().enumerate().take(sys.np) {
+            if sys.pulleys[j].arm.is_some() {
+                *s = Some(k);
+                k += 1;
+            }
+        }
         Self {
             c: 0.0,
             slot,
+            arm_slot,
             dinv: vec![Matrix3::zeros(); m],
             l: vec![Matrix3::zeros(); m],
             u: vec![Matrix3::zeros(); m],
@@ -201,6 +232,21 @@ impl<const NB: usize> Factors<NB> {
         -(c * c) * b.pq[j] - c * b.pv[j] - (c * b.pz[j]) * Self::h_row(jac, c, i)
     }
 
+    /// Border column of body i for the rate of pulley j's arm (3-vector):
+    /// its angle enters as c times the rate, directly and through the creep.
+    #[inline(always)]
+    fn arm_column(jac: &Jacobian, c: f64, i: usize, j: usize) -> Vector3<f64> {
+        let (b, a) = (&jac.bodies[i], &jac.arm_bodies[i]);
+        -c * (c * a.aa[j] + a.ar[j]) - (c * c * (c * a.ga[j] + a.gr[j])) * b.az
+    }
+
+    /// The row of pulley j's arm for body i's velocities.
+    #[inline(always)]
+    fn arm_row(jac: &Jacobian, c: f64, i: usize, j: usize) -> RowVector3<f64> {
+        let a = &jac.arm_bodies[i];
+        -(c * c) * a.rq[j] - c * a.rv[j] - (c * a.rz[j]) * Self::h_row(jac, c, i)
+    }
+
     /// Border entries (rows of body n-1 and the pulleys) of body i's columns.
     #[inline(always)]
     fn border_rows(
@@ -227,6 +273,14 @@ impl<const NB: usize> Factors<NB> {
                 if touching & (1 << j) != 0 {
                     f.fixed_view_mut::<1, 3>(k, 0)
                         .copy_from(&Self::pulley_row(jac, c, i, j));
+                }
+            }
+        }
+        for (j, s) in self.arm_slot.iter().enumerate().take(sys.np) {
+            if let Some(k) = *s {
+                if touching & (1 << j) != 0 {
+                    f.fixed_view_mut::<1, 3>(k, 0)
+                        .copy_from(&Self::arm_row(jac, c, i, j));
                 }
             }
         }
@@ -261,6 +315,14 @@ impl<const NB: usize> Factors<NB> {
                 }
             }
         }
+        for (j, s) in self.arm_slot.iter().enumerate().take(sys.np) {
+            if let Some(k) = *s {
+                if touching & (1 << j) != 0 {
+                    e.fixed_view_mut::<3, 1>(0, k)
+                        .copy_from(&Self::arm_column(jac, c, i, j));
+                }
+            }
+        }
         e
     }
 
@@ -290,6 +352,56 @@ impl<const NB: usize> Factors<NB> {
                 for b in &jac.bodies {
                     if b.touching & (1 << j) != 0 {
                         v -= c * c * b.pz[j] * b.gw[k];
+                    }
+                }
+                g[(kj, kk)] = v;
+            }
+            // pulley-arm: its own arm directly (pa, pr), every arm through
+            // the creep of the bodies on both
+            for (k, sk) in self.arm_slot.iter().enumerate().take(sys.np) {
+                let Some(kk) = *sk else { continue };
+                let mut v = 0.0;
+                if j == k {
+                    v -= c * (c * jac.arm[j].pa + jac.arm[j].pr);
+                }
+                for (b, a) in jac.bodies.iter().zip(&jac.arm_bodies) {
+                    if b.touching & (1 << j) != 0 {
+                        v -= c * c * b.pz[j] * (c * a.ga[k] + a.gr[k]);
+                    }
+                }
+                g[(kj, kk)] = v;
+            }
+        }
+        // arm rows: body n-1, pulley speeds, arm rates
+        for (j, sj) in self.arm_slot.iter().enumerate().take(sys.np) {
+            let Some(kj) = *sj else { continue };
+            if touching_last & (1 << j) != 0 {
+                g.fixed_view_mut::<3, 1>(0, kj)
+                    .copy_from(&Self::arm_column(jac, c, last, j));
+                g.fixed_view_mut::<1, 3>(kj, 0)
+                    .copy_from(&Self::arm_row(jac, c, last, j));
+            }
+            let touching = |b: &super::jacobian::BodyJacobian| b.touching & (1 << j) != 0;
+            for (k, sk) in self.slot.iter().enumerate().take(sys.np) {
+                let Some(kk) = *sk else { continue };
+                let mut v = if j == k { -c * jac.arm[j].aw } else { 0.0 };
+                for (b, a) in jac.bodies.iter().zip(&jac.arm_bodies) {
+                    if touching(b) {
+                        v -= c * c * a.rz[j] * b.gw[k];
+                    }
+                }
+                g[(kj, kk)] = v;
+            }
+            for (k, sk) in self.arm_slot.iter().enumerate().take(sys.np) {
+                let Some(kk) = *sk else { continue };
+                let mut v = if j == k {
+                    1.0 - c * (c * jac.arm[j].aa + jac.arm[j].ar)
+                } else {
+                    0.0
+                };
+                for (b, a) in jac.bodies.iter().zip(&jac.arm_bodies) {
+                    if touching(b) {
+                        v -= c * c * a.rz[j] * (c * a.ga[k] + a.gr[k]);
                     }
                 }
                 g[(kj, kk)] = v;
@@ -369,11 +481,13 @@ impl<const NB: usize> Factors<NB> {
     /// Writes body i's increments: velocities `dv`, positions `b_q + c dv`,
     /// creep state from `bz` (its reduced right-hand side) and the pulley
     /// speed increments `dw`.
+    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn recover(
         jac: &Jacobian,
         c: f64,
         dw: &[f64],
+        dr: &[f64],
         b: &mut [f64],
         i: usize,
         dv: Vector3<f64>,
@@ -382,11 +496,17 @@ impl<const NB: usize> Factors<NB> {
         let bj = &jac.bodies[i];
         let o = BODY_DOF * i;
         let dq = positions(b, i) + c * dv;
-        // bz is b_z + c g_q b_q; add the terms of the increments
+        // bz is b_z + c g_q b_q (+ c g_alpha b_alpha); add the terms of the
+        // increments
         let mut dz = bz + c * (c * bj.gq.dot(&dv.transpose()) + bj.gv.dot(&dv.transpose()));
         if bj.touching != 0 {
             for (g, w) in bj.gw.iter().zip(dw) {
                 dz += c * g * w;
+            }
+            if let Some(a) = jac.arm_bodies.get(i) {
+                for ((ga, gr), r) in a.ga.iter().zip(&a.gr).zip(dr) {
+                    dz += c * (c * ga + gr) * r;
+                }
             }
         }
         b[o..o + 3].copy_from_slice(dq.as_slice());
@@ -410,21 +530,54 @@ impl<const NB: usize> Factors<NB> {
                 rw[k] = b[sys.pulley_offset(j) + 1];
             }
         }
+        // the arms' angle increments' right-hand sides b_alpha, which enter
+        // like the bodies' positions
+        let mut b_arm = [0.0; MAX_PULLEYS];
+        for (j, s) in self.arm_slot.iter().enumerate().take(sys.np) {
+            if let Some(k) = *s {
+                let o = sys.pulleys[j].arm_offset;
+                b_arm[j] = b[o];
+                let a = &jac.arm[j];
+                rw[k] = b[o + 1] + c * a.aa * b[o];
+                if let Some(kp) = self.slot[j] {
+                    rw[kp] += c * a.pa * b[o];
+                }
+            }
+        }
         let mut prev_rv = Vector3::zeros();
         let (mut q_prev, mut q_self) = (positions(b, n - 1), positions(b, 0));
         for (i, bj) in jac.bodies.iter().enumerate() {
             let o = BODY_DOF * i;
             let q_next = positions(b, if i + 1 == n { 0 } else { i + 1 });
-            let bz = b[o + 6] + c * bj.gq.dot(&q_self.transpose());
-            self.bz[i] = bz;
+            let mut bz = b[o + 6] + c * bj.gq.dot(&q_self.transpose());
             let mut rv = Vector3::new(b[o + 3], b[o + 4], b[o + 5])
-                + c * (bj.aq[PREV] * q_prev + bj.aq[SELF] * q_self + bj.aq[NEXT] * q_next)
-                + (c * bz) * bj.az;
+                + c * (bj.aq[PREV] * q_prev + bj.aq[SELF] * q_self + bj.aq[NEXT] * q_next);
+            if bj.touching != 0 {
+                if let Some(a) = jac.arm_bodies.get(i) {
+                    for (j, s) in self.arm_slot.iter().enumerate().take(sys.np) {
+                        if s.is_some() && bj.touching & (1 << j) != 0 {
+                            bz += c * a.ga[j] * b_arm[j];
+                            rv += (c * b_arm[j]) * a.aa[j];
+                        }
+                    }
+                }
+            }
+            self.bz[i] = bz;
+            rv += (c * bz) * bj.az;
             if bj.touching != 0 {
                 for (j, s) in self.slot.iter().enumerate().take(sys.np) {
                     if let Some(k) = *s {
                         if bj.touching & (1 << j) != 0 {
                             rw[k] += c * (bj.pq[j].dot(&q_self.transpose()) + bj.pz[j] * bz);
+                        }
+                    }
+                }
+                if let Some(a) = jac.arm_bodies.get(i) {
+                    for (j, s) in self.arm_slot.iter().enumerate().take(sys.np) {
+                        if let Some(k) = *s {
+                            if bj.touching & (1 << j) != 0 {
+                                rw[k] += c * (a.rq[j].dot(&q_self.transpose()) + a.rz[j] * bz);
+                            }
                         }
                     }
                 }
@@ -491,11 +644,22 @@ impl<const NB: usize> Factors<NB> {
                 b[o + 1] = x[1];
             }
         }
+        // arm rates and angles
+        let mut dr = [0.0; MAX_PULLEYS];
+        for (j, s) in self.arm_slot.iter().enumerate().take(sys.np) {
+            if let Some(k) = *s {
+                dr[j] = xb[k];
+                let o = sys.pulleys[j].arm_offset;
+                b[o + 1] = xb[k];
+                b[o] += c * xb[k];
+            }
+        }
         // 2. backward: velocities, then positions and creep of each body
         Self::recover(
             jac,
             c,
             &dw[..sys.np],
+            &dr[..sys.np],
             b,
             n - 1,
             Vector3::new(xb[0], xb[1], xb[2]),
@@ -508,7 +672,7 @@ impl<const NB: usize> Factors<NB> {
                 r -= self.u[i] * next;
             }
             next = self.dinv[i] * r;
-            Self::recover(jac, c, &dw[..sys.np], b, i, next, self.bz[i]);
+            Self::recover(jac, c, &dw[..sys.np], &dr[..sys.np], b, i, next, self.bz[i]);
         }
     }
 }
@@ -553,12 +717,14 @@ pub(crate) mod tests {
 
     #[test]
     fn solves_like_dense_gaussian_elimination() {
-        for (speed_driven, three, dec) in [
-            (false, false, false),
-            (true, false, false),
-            (false, true, false),
-            (false, false, true),
-            (true, true, true),
+        for (speed_driven, three, dec, arms) in [
+            (false, false, false, false),
+            (true, false, false, false),
+            (false, true, false, false),
+            (false, false, true, false),
+            (true, true, true, false),
+            (false, false, false, true),
+            (true, true, true, true),
         ] {
             let mut p = DriveParams::kubas_section4();
             p.belt.n_bodies = 40;
@@ -583,6 +749,18 @@ pub(crate) mod tests {
                 p.pulleys[1].decoupler = true;
                 p.pulleys[1].decoupler_clockwise = true;
             }
+            if arms {
+                // an arm on pulley 2 (and on pulley 3 of three), pivots
+                // 80 mm off the centres
+                for (j, pivot) in [(1, [0.3, 0.06]), (2, [0.2, 0.25])] {
+                    if let Some(t) = p.pulleys.get_mut(j) {
+                        t.tensioner = true;
+                        t.arm_pivot = pivot;
+                        t.arm_friction = 1.5;
+                        t.arm_damping = 0.05;
+                    }
+                }
+            }
             let d = Drive::new(&p, 0.0).unwrap();
             let sys = d.system();
             let mut y = d.state().to_vec();
@@ -600,6 +778,13 @@ pub(crate) mod tests {
                 y[o + 5] = 10.0 * (i as f64).cos();
                 y[o + 6] = 4e-5 * (i as f64 * 0.3).sin();
             }
+            for (k, pc) in sys.pulleys[..sys.np].iter().enumerate() {
+                if pc.arm.is_some() {
+                    y[pc.arm_offset] = 2e-4 * (k as f64 + 1.0);
+                    y[pc.arm_offset + 1] = [0.004, -0.3, 1.0][k];
+                }
+            }
+            assert_eq!(sys.n_arms, usize::from(arms) * if three { 2 } else { 1 });
             let dim = sys.dim();
             let mut jac = Jacobian::new(sys);
             sys.jacobian(0.01, &y, &mut jac);
@@ -622,8 +807,8 @@ pub(crate) mod tests {
                 for k in 0..dim {
                     assert!(
                         (x[k] - x_ref[k]).abs() <= 1e-8 * scale,
-                        "speed_driven {speed_driven}, 3 pulleys {three}, decouplers {dec}, c {c:e}: \
-                         x[{k}] = {} vs {}",
+                        "speed_driven {speed_driven}, 3 pulleys {three}, decouplers {dec}, \
+                         arms {arms}, c {c:e}: x[{k}] = {} vs {}",
                         x[k],
                         x_ref[k]
                     );

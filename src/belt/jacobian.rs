@@ -64,6 +64,40 @@ pub struct DecouplerJacobian {
     pub hr: f64,
 }
 
+/// Derivatives of a tensioner arm's rate row (arm acceleration) with
+/// respect to its own angle and rate (spring, damper, pivot friction, the
+/// lever of the hub force and the contacts' dependence on the moving
+/// centre) and its pulley's speed; and of that pulley's acceleration with
+/// respect to the arm (`elements::tensioner`). The angle row is
+/// d(angle)/dt = rate.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ArmJacobian {
+    /// d(arm acceleration)/d(angle, rate, pulley speed).
+    pub aa: f64,
+    pub ar: f64,
+    pub aw: f64,
+    /// d(pulley acceleration)/d(arm angle, arm rate).
+    pub pa: f64,
+    pub pr: f64,
+}
+
+/// How one body's rows and a tensioner arm's row depend on each other,
+/// per pulley slot j (zero unless the body touches pulley j and it sits on
+/// an arm): the contact sees the body relative to the moving centre.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct BodyArmJacobian {
+    /// d(acceleration)/d(arm angle), d(acceleration)/d(arm rate).
+    pub aa: [Vector3<f64>; MAX_PULLEYS],
+    pub ar: [Vector3<f64>; MAX_PULLEYS],
+    /// dz'/d(arm angle), dz'/d(arm rate).
+    pub ga: [f64; MAX_PULLEYS],
+    pub gr: [f64; MAX_PULLEYS],
+    /// d(arm acceleration)/d(this body's position, velocity, z).
+    pub rq: [RowVector3<f64>; MAX_PULLEYS],
+    pub rv: [RowVector3<f64>; MAX_PULLEYS],
+    pub rz: [f64; MAX_PULLEYS],
+}
+
 /// Block Jacobian of the whole belt drive.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Jacobian {
@@ -74,6 +108,10 @@ pub struct Jacobian {
     pub free: [bool; MAX_PULLEYS],
     /// Decoupler of pulley j (zero if it has none).
     pub dec: [DecouplerJacobian; MAX_PULLEYS],
+    /// Tensioner arm of pulley j (zero if it has none).
+    pub arm: [ArmJacobian; MAX_PULLEYS],
+    /// Per body, its coupling with the arms (empty in a drive without arms).
+    pub arm_bodies: Vec<BodyArmJacobian>,
 }
 
 /// Index of the neighbour blocks in `aq`/`av`.
@@ -97,6 +135,12 @@ impl Jacobian {
             pw: [[0.0; MAX_PULLEYS]; MAX_PULLEYS],
             free,
             dec: [DecouplerJacobian::default(); MAX_PULLEYS],
+            arm: [ArmJacobian::default(); MAX_PULLEYS],
+            arm_bodies: if sys.n_arms > 0 {
+                vec![BodyArmJacobian::default(); sys.n]
+            } else {
+                Vec::new()
+            },
         }
     }
 
@@ -128,6 +172,23 @@ impl Jacobian {
             ] {
                 f(v);
             }
+        }
+        for a in &mut self.arm {
+            for v in [&mut a.aa, &mut a.ar, &mut a.aw, &mut a.pa, &mut a.pr] {
+                f(v);
+            }
+        }
+        for b in &mut self.arm_bodies {
+            for v in b.aa.iter_mut().chain(b.ar.iter_mut()) {
+                v.iter_mut().for_each(&mut *f);
+            }
+            for v in b.rq.iter_mut().chain(b.rv.iter_mut()) {
+                v.iter_mut().for_each(&mut *f);
+            }
+            b.ga.iter_mut()
+                .chain(b.gr.iter_mut())
+                .chain(b.rz.iter_mut())
+                .for_each(&mut *f);
         }
     }
 
@@ -206,6 +267,27 @@ impl Jacobian {
                 set(h, d, dj.ht);
                 set(h, d + 1, dj.hr);
             }
+            if sys.pulleys[j].arm.is_some() {
+                let (a, aj) = (sys.pulleys[j].arm_offset, &self.arm[j]);
+                set(a, a + 1, 1.0);
+                set(a + 1, a, aj.aa);
+                set(a + 1, a + 1, aj.ar);
+                set(a + 1, o + 1, aj.aw);
+                set(o + 1, a, aj.pa);
+                set(o + 1, a + 1, aj.pr);
+                for (i, b) in self.arm_bodies.iter().enumerate() {
+                    let ob = BODY_DOF * i;
+                    for r in 0..3 {
+                        set(ob + 3 + r, a, b.aa[j][r]);
+                        set(ob + 3 + r, a + 1, b.ar[j][r]);
+                        set(a + 1, ob + r, b.rq[j][r]);
+                        set(a + 1, ob + 3 + r, b.rv[j][r]);
+                    }
+                    set(ob + 6, a, b.ga[j]);
+                    set(ob + 6, a + 1, b.gr[j]);
+                    set(a + 1, ob + 6, b.rz[j]);
+                }
+            }
         }
         m
     }
@@ -245,6 +327,32 @@ impl BeltSystem {
         let pulleys = self.pulleys_in_effect(&mut buf);
         let (inv_m, inv_i) = (self.inv_mass, self.inv_inertia);
         let row_scale = [inv_m, inv_m, inv_i];
+        // pulley centres and velocities; per arm: c'(alpha), c''(alpha)
+        // alpha' (the centre velocity's angle derivative), 1 / I_arm
+        let mut centre = [[0.0; 4]; MAX_PULLEYS];
+        let mut lever = [Vector2::zeros(); MAX_PULLEYS];
+        let mut lever_rate = [Vector2::zeros(); MAX_PULLEYS];
+        let mut inv_arm = [0.0; MAX_PULLEYS];
+        let mut hub_force = [[0.0; 2]; MAX_PULLEYS];
+        for j in 0..np {
+            let (c, vc) = self.pulley_centre(j, y);
+            centre[j] = [c[0], c[1], vc[0], vc[1]];
+            jac.arm[j] = ArmJacobian::default();
+            let pc = &self.pulleys[j];
+            if let Some(arm) = &pc.arm {
+                let (a, w) = (y[pc.arm_offset], y[pc.arm_offset + 1]);
+                let dc = arm.centre(a).1;
+                lever[j] = Vector2::new(dc[0], dc[1]);
+                // c'' = -(c - pivot)
+                lever_rate[j] = -w * Vector2::new(c[0] - arm.pivot[0], c[1] - arm.pivot[1]);
+                inv_arm[j] = if self.relaxation.pulleys_held {
+                    0.0
+                } else {
+                    1.0 / arm.inertia
+                };
+            }
+        }
+        let with_arms = self.n_arms > 0;
 
         // Contact and friction of each body (eq. 4-19): forces act at the
         // body centre, so only the translational rows and own columns.
@@ -266,15 +374,20 @@ impl BeltSystem {
                 b.pv[j] = RowVector3::zeros();
                 b.pz[j] = 0.0;
             }
+            if with_arms {
+                jac.arm_bodies[i] = BodyArmJacobian::default();
+            }
             let x = [y[o], y[o + 1]];
-            let v = [y[o + 3], y[o + 4]];
             let z = y[o + 6];
             let mut fq = Matrix2::zeros();
             let mut fv = Matrix2::zeros();
             for j in 0..np {
                 let pc = &pulleys[j];
+                let [cx, cy, cvx, cvy] = centre[j];
+                // velocity relative to the pulley centre (a tensioner's moves)
+                let v = [y[o + 3] - cvx, y[o + 4] - cvy];
                 let kin = contact::kinematics(
-                    [x[0] - pc.cx, x[1] - pc.cy],
+                    [x[0] - cx, x[1] - cy],
                     v,
                     pc.radius,
                     omega_p[j] * pc.lever,
@@ -284,15 +397,53 @@ impl BeltSystem {
                 }
                 b.touching |= 1 << j;
                 let zf = self.zone_factor[i];
+                let normal = self
+                    .contact
+                    .normal_force_jac(kin.p, kin.p_dot, pc.inv_p_max);
                 let cp = contact::force_partials(
                     &kin,
                     v,
-                    self.contact
-                        .normal_force_jac(kin.p, kin.p_dot, pc.inv_p_max),
+                    normal,
                     self.friction
                         .coefficient_jac(kin.v_t, z, pc.mu_s * zf, pc.mu_k * zf),
                     pc.lever,
                 );
+                let creeping = self.friction.creep_rate_slope(kin.v_t, z) != 0.0;
+                if pc.arm.is_some() {
+                    // The contact force F(x - c(alpha), v - c'(alpha) alpha')
+                    // on the body and its reaction -F on the hub, whose
+                    // moment c'(alpha) . (-F) drives the arm.
+                    let (dc, ddc, inv) = (lever[j], lever_rate[j], inv_arm[j]);
+                    let force = contact::force(&kin, normal.0, cp.f);
+                    hub_force[j][0] -= force[0];
+                    hub_force[j][1] -= force[1];
+                    let f_a = -(cp.f_x * dc) - cp.f_v * ddc;
+                    let f_r = -(cp.f_v * dc);
+                    let tau = Vector2::from(kin.t);
+                    let ba = &mut jac.arm_bodies[i];
+                    ba.aa[j] = Vector3::new(f_a[0] * inv_m, f_a[1] * inv_m, 0.0);
+                    ba.ar[j] = Vector3::new(f_r[0] * inv_m, f_r[1] * inv_m, 0.0);
+                    if creeping {
+                        ba.ga[j] = -(cp.vt_x.dot(&dc.transpose()) + cp.vt_v.dot(&ddc.transpose()));
+                        ba.gr[j] = -cp.vt_v.dot(&dc.transpose());
+                    }
+                    let lq = -(dc.transpose() * cp.f_x) * inv;
+                    let lv = -(dc.transpose() * cp.f_v) * inv;
+                    ba.rq[j] = RowVector3::new(lq[0], lq[1], 0.0);
+                    ba.rv[j] = RowVector3::new(lv[0], lv[1], 0.0);
+                    ba.rz[j] = -dc.dot(&tau) * cp.fric_z * inv;
+                    let aj = &mut jac.arm[j];
+                    aj.aa -= dc.dot(&f_a) * inv;
+                    aj.ar -= dc.dot(&f_r) * inv;
+                    if !pc.speed_driven {
+                        aj.aw -= dc.dot(&tau) * cp.fric_w * inv;
+                        // the pulley's torque -r_c f through the moving centre
+                        let k = -pc.lever * pc.balance_partials().1;
+                        aj.pa -=
+                            k * (cp.fric_x.dot(&dc.transpose()) + cp.fric_v.dot(&ddc.transpose()));
+                        aj.pr -= k * cp.fric_v.dot(&dc.transpose());
+                    }
+                }
                 fq += cp.f_x;
                 fv += cp.f_v;
                 let tau = kin.t;
@@ -304,7 +455,7 @@ impl BeltSystem {
                     b.aw[j][1] += tau[1] * cp.fric_w * inv_m;
                 }
                 // creep rate dz/dt = v_T, frozen at the cap while pushed outward
-                if self.friction.creep_rate_slope(kin.v_t, z) != 0.0 {
+                if creeping {
                     b.gq[0] += cp.vt_x[0];
                     b.gq[1] += cp.vt_x[1];
                     b.gv[0] += cp.vt_v[0];
@@ -450,6 +601,18 @@ impl BeltSystem {
             if !pc.speed_driven {
                 jac.pw[j][j] -= law.torque_d_rate * pc.inv_inertia;
             }
+        }
+        // Tensioner arms: spring, damper, pivot friction and the lever of
+        // the hub force (its angle derivative at a given force)
+        for j in 0..np {
+            let pc = &self.pulleys[j];
+            let Some(arm) = &pc.arm else { continue };
+            let (a, w) = (y[pc.arm_offset], y[pc.arm_offset + 1]);
+            let own = arm.torque(a, w);
+            let inv = inv_arm[j];
+            let aj = &mut jac.arm[j];
+            aj.aa += (own.d_angle + arm.moment(a, hub_force[j]).1) * inv;
+            aj.ar += own.d_rate * inv;
         }
     }
 }
@@ -640,6 +803,52 @@ mod tests {
                 }
                 let cols = check(sys, 0.02, &y);
                 assert_eq!(cols, sys.dim() - 2);
+            }
+        }
+    }
+
+    /// The tensioner arm's rows and columns (its own spring, damper, pivot
+    /// friction in and beyond the friction's ramp, the hub force's lever,
+    /// every contact on the moving pulley and the pulley's friction torque),
+    /// on a torque-driven and on a speed-driven tensioner pulley, with a
+    /// decoupler on the other pulley; the rest of the Jacobian stays right
+    /// around it.
+    #[test]
+    fn jacobian_covers_the_tensioner_arm() {
+        for (law, speed_driven) in [
+            (FrictionLaw::Creep, false),
+            (FrictionLaw::Kubas2014, false),
+            (FrictionLaw::Creep, true),
+        ] {
+            let mut p = drive(law, false).params().clone();
+            // the arm carries pulley 2 (0.25, 0) from a pivot 80 mm above
+            // and behind it
+            let t = &mut p.pulleys[1];
+            t.tensioner = true;
+            t.arm_pivot = [0.3, 0.06];
+            t.arm_inertia = 2e-3;
+            t.arm_stiffness = 40.0;
+            t.arm_damping = 0.05;
+            t.arm_friction = 1.5;
+            t.speed_driven = speed_driven;
+            p.pulleys[0].decoupler = true;
+            let d = Drive::mounted(&p, 0.0).unwrap();
+            let sys = d.system();
+            assert_eq!(sys.n_arms, 1);
+            let base = running_state(&d, &[0.0, 3e-5, -7e-5]);
+            // (angle, rate): friction in its ramp (|rate| < 0.01 rad/s) and
+            // beyond it, the centre moving both ways
+            for (angle, rate) in [(2e-4, 0.004), (-1e-4, -0.3), (3e-4, 2.0)] {
+                let mut y = base.clone();
+                let o = sys.pulleys[1].arm_offset;
+                y[o] = angle;
+                y[o + 1] = rate;
+                let cols = check(sys, 0.02, &y);
+                assert_eq!(cols, sys.dim() - 2);
+                // the arm's row is really coupled to the bodies
+                let mut jac = Jacobian::new(sys);
+                sys.jacobian(0.02, &y, &mut jac);
+                assert!(jac.arm_bodies.iter().any(|b| b.rq[1].norm() > 0.0));
             }
         }
     }

@@ -7,7 +7,9 @@
 //! * pulley j: `[theta, omega]` at `7 n + 2 j`;
 //! * `[work_in, energy_dissipated]`;
 //! * per pulley with a decoupler, in pulley order: `[twist, rotor omega]`
-//!   (`elements::decoupler`).
+//!   (`elements::decoupler`);
+//! * per pulley on a tensioner arm, in pulley order: `[arm angle, arm rate]`
+//!   (`elements::tensioner`); the pulley's centre moves with the arm.
 
 use super::elements::contact::{self, ContactLaw};
 use super::elements::decoupler::Decoupler;
@@ -15,6 +17,7 @@ use super::elements::friction::Friction;
 use super::elements::groove::friction_factor;
 pub use super::elements::pulley::PulleyConst;
 use super::elements::sde::{self, AxialSde, BodyEnd, TorsionalSde};
+use super::elements::tensioner::Arm;
 use super::layout::Layout;
 use super::params::{DriveParams, FrictionLaw, MAX_PULLEYS};
 use super::solver_params::TUNING;
@@ -74,8 +77,9 @@ pub struct Relaxation {
     /// Friction between belt and pulleys switched off (the creep
     /// displacement still follows its rate law).
     pub frictionless: bool,
-    /// Every pulley and decoupler rotor held at rest: inputs and built-in
-    /// ramps are ignored and every pulley is treated as speed-driven.
+    /// Every pulley, decoupler rotor and tensioner arm held at rest: inputs
+    /// and built-in ramps are ignored and every pulley is treated as
+    /// speed-driven; the arms stay where they were placed.
     pub pulleys_held: bool,
 }
 
@@ -99,6 +103,8 @@ pub struct BeltSystem {
     pub(super) np: usize,
     /// Pulleys with a decoupler (2 states each, after the energies).
     pub(super) n_decouplers: usize,
+    /// Pulleys on a tensioner arm (2 states each, after the decouplers').
+    pub(super) n_arms: usize,
     pub(super) pulleys: [PulleyConst; MAX_PULLEYS],
     /// Half the body length l/2 [m].
     pub(super) half_length: f64,
@@ -134,6 +140,16 @@ pub enum SimdBuild {
     Baseline,
     Avx2,
     Avx512,
+}
+
+/// What the body blocks of the right-hand side read and accumulate per
+/// pulley: speeds and centres (x, y, vx, vy) in, belt torque and the belt's
+/// force on a tensioner pulley's hub out.
+struct PulleyState<'a> {
+    omega: &'a [f64; MAX_PULLEYS],
+    centre: &'a [[f64; 4]; MAX_PULLEYS],
+    belt_torque: &'a mut [f64; MAX_PULLEYS],
+    hub: &'a mut [[f64; 2]; MAX_PULLEYS],
 }
 
 /// Bodies per block of the right-hand side (scratch of ~9 KiB, stays in L1).
@@ -464,6 +480,8 @@ impl BeltSystem {
         let n = b.n_bodies;
         let np = params.pulleys.len();
         let mut n_dec = 0;
+        let mut n_arms = 0;
+        let n_dec_all = params.pulleys.iter().filter(|p| p.decoupler).count();
         let mut pulleys = [PulleyConst::NONE; MAX_PULLEYS];
         for (j, (pc, p)) in pulleys.iter_mut().zip(&params.pulleys).enumerate() {
             *pc = PulleyConst {
@@ -501,8 +519,19 @@ impl BeltSystem {
                 rotor_inertia: p.rotor_inertia,
                 rotor_inv_inertia: 1.0 / p.rotor_inertia,
                 decoupler_offset: BODY_DOF * n + 2 * np + 2 + 2 * n_dec,
+                arm: p.tensioner.then(|| Arm {
+                    inertia: p.arm_inertia,
+                    stiffness: p.arm_stiffness,
+                    damping: p.arm_damping,
+                    friction: p.arm_friction,
+                    // set by the mounting (`Drive::new`)
+                    free_angle: 0.0,
+                    ..Arm::mounted(p.arm_pivot, [p.x, p.y])
+                }),
+                arm_offset: BODY_DOF * n + 2 * np + 2 + 2 * n_dec_all + 2 * n_arms,
             };
             n_dec += usize::from(p.decoupler);
+            n_arms += usize::from(p.tensioner);
         }
         let f = &params.friction;
         let mut zone_factor = vec![1.0; n];
@@ -514,6 +543,7 @@ impl BeltSystem {
             n,
             np,
             n_decouplers: n_dec,
+            n_arms,
             pulleys,
             half_length: 0.5 * l,
             mass,
@@ -544,7 +574,22 @@ impl BeltSystem {
 
     /// Length of the state vector.
     pub fn dim(&self) -> usize {
-        BODY_DOF * self.n + 2 * self.np + 2 + 2 * self.n_decouplers
+        BODY_DOF * self.n + 2 * self.np + 2 + 2 * self.n_decouplers + 2 * self.n_arms
+    }
+
+    /// Centre of pulley j in state `y` and its velocity: the fixed centre,
+    /// or the end of its tensioner arm, `c(alpha)` and `c'(alpha) alpha'`.
+    #[inline]
+    pub fn pulley_centre(&self, j: usize, y: &[f64]) -> ([f64; 2], [f64; 2]) {
+        let pc = &self.pulleys[j];
+        match &pc.arm {
+            None => ([pc.cx, pc.cy], [0.0, 0.0]),
+            Some(arm) => {
+                let (a, w) = (y[pc.arm_offset], y[pc.arm_offset + 1]);
+                let (c, dc) = arm.centre(a);
+                (c, [dc[0] * w, dc[1] * w])
+            }
+        }
     }
 
     /// Offset of pulley j's `[theta, omega]` in the state.
@@ -829,25 +874,29 @@ impl BeltSystem {
         for (j, w) in omega_p.iter_mut().enumerate().take(np) {
             *w = self.pulley_speed(j, t, y);
         }
+        // pulley centres and their velocities (x, y, vx, vy): a tensioner's
+        // pulley moves with its arm
+        let mut centres = [[0.0; 4]; MAX_PULLEYS];
+        for (j, c) in centres.iter_mut().enumerate().take(np) {
+            let (p, v) = self.pulley_centre(j, y);
+            *c = [p[0], p[1], v[0], v[1]];
+        }
         let mut belt_torque = [0.0; MAX_PULLEYS];
+        // force of the belt on each tensioner pulley's hub
+        let mut hub = [[0.0; 2]; MAX_PULLEYS];
         let mut p_diss = 0.0;
 
         let mut i0 = 0;
         while i0 < n {
             let len = BLOCK.min(n - i0);
             let first = i0 == 0;
-            p_diss += self.block::<R, WIDE>(
-                blk,
-                pulleys,
-                i0,
-                len,
-                first,
-                y,
-                dy,
-                &omega_p,
-                &mut belt_torque,
-                rec,
-            );
+            let state = PulleyState {
+                omega: &omega_p,
+                centre: &centres,
+                belt_torque: &mut belt_torque,
+                hub: &mut hub,
+            };
+            p_diss += self.block::<R, WIDE>(blk, pulleys, i0, len, first, y, dy, state, rec);
             i0 += len;
             if i0 < n {
                 blk.carry(len);
@@ -901,6 +950,20 @@ impl BeltSystem {
                 rec.pulley(j, belt_torque[j], bal.drive, bal.alpha);
             }
         }
+        // Tensioner arms: I_arm alpha'' = (c - pivot) x F_hub + M_arm.
+        for (j, pc) in self.pulleys[..np].iter().enumerate() {
+            let Some(arm) = &pc.arm else { continue };
+            let o = pc.arm_offset;
+            let (a, w) = (y[o], y[o + 1]);
+            dy[o] = w;
+            if self.relaxation.pulleys_held {
+                dy[o + 1] = 0.0;
+                continue;
+            }
+            let moment = arm.moment(a, hub[j]).0;
+            dy[o + 1] = (moment + arm.torque(a, w).torque) / arm.inertia;
+            p_diss += arm.dissipation(w);
+        }
         let e = self.energy_offset();
         dy[e] = p_in;
         dy[e + 1] = p_diss;
@@ -922,10 +985,15 @@ impl BeltSystem {
         first: bool,
         y: &[f64],
         dy: &mut [f64],
-        omega_p: &[f64; MAX_PULLEYS],
-        belt_torque: &mut [f64; MAX_PULLEYS],
+        state: PulleyState,
         rec: &mut R,
     ) -> f64 {
+        let PulleyState {
+            omega: omega_p,
+            centre,
+            belt_torque,
+            hub,
+        } = state;
         let n = self.n;
         let hl = self.half_length;
         assert!(len <= BLOCK);
@@ -1017,17 +1085,21 @@ impl BeltSystem {
         let fr = self.friction;
         for (q, pc) in pulleys[..self.np].iter().enumerate() {
             let surface = omega_p[q] * pc.lever;
-            let (torque, diss) = if fr.law == FrictionLaw::Creep {
-                self.contacts(b, i0, len, q, pc, surface, rec, move |v, z, ms, mk| {
+            let c = &centre[q];
+            let (torque, diss, on_bodies) = if fr.law == FrictionLaw::Creep {
+                self.contacts(b, i0, len, q, pc, c, surface, rec, move |v, z, ms, mk| {
                     fr.creep_coefficient(v, z, ms, mk)
                 })
             } else {
-                self.contacts(b, i0, len, q, pc, surface, rec, move |v, z, ms, mk| {
+                self.contacts(b, i0, len, q, pc, c, surface, rec, move |v, z, ms, mk| {
                     fr.kubas_coefficient(v, z, ms, mk)
                 })
             };
             belt_torque[q] -= torque; // eq. 24
             p_diss += diss;
+            // the hub carries the reaction of the contact forces on the bodies
+            hub[q][0] -= on_bodies[0];
+            hub[q][1] -= on_bodies[1];
         }
 
         // (4) Accelerations (eq. 20-23): own forces, the left SDE (j) and
@@ -1045,10 +1117,12 @@ impl BeltSystem {
     }
 
     /// Contact and friction forces (eq. 4-19) of bodies 0..len of a block
-    /// with pulley `q` (surface speed `surface`), friction coefficient
-    /// `mu(v_T, z, mu_s, mu_k)`: added to the bodies' own forces and creep
-    /// rates. Returns the moment r f about the pulley's axis summed over the
-    /// contacts, and their power.
+    /// with pulley `q` (centre and its velocity `centre` = [x, y, vx, vy],
+    /// surface speed `surface`), friction coefficient `mu(v_T, z, mu_s,
+    /// mu_k)`: added to the bodies' own forces and creep rates. Returns the
+    /// moment r f about the pulley's axis summed over the contacts, their
+    /// power, and, for a pulley on a tensioner arm, the sum of the contact
+    /// forces on the bodies (else zero).
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn contacts<R: Recorder>(
@@ -1058,23 +1132,25 @@ impl BeltSystem {
         len: usize,
         q: usize,
         pc: &PulleyConst,
+        centre: &[f64; 4],
         surface: f64,
         rec: &mut R,
         mu: impl Fn(f64, f64, f64, f64) -> f64,
-    ) -> (f64, f64) {
+    ) -> (f64, f64, [f64; 2]) {
+        let (cx, cy) = (centre[0], centre[1]);
         // the bodies lo..hi span every body inside the circle (usually one
         // arc); the rest of the block is skipped
         let (mut lo, mut hi) = (len, 0);
         let end = padded(len);
         assert!(end < BLOCK + 1 + PAD);
         for j in 0..end {
-            let (rx, ry) = (b.x[j + 1] - pc.cx, b.y[j + 1] - pc.cy);
+            let (rx, ry) = (b.x[j + 1] - cx, b.y[j + 1] - cy);
             let inside = (rx * rx + ry * ry < pc.radius2) & (j < len);
             lo = lo.min(if inside { j } else { len });
             hi = hi.max(if inside { j + 1 } else { 0 });
         }
         if lo >= hi {
-            return (0.0, 0.0);
+            return (0.0, 0.0, [0.0; 2]);
         }
         // columns of bodies lo..hi (separate slices: no aliasing, no bounds
         // checks, the loop vectorises)
@@ -1082,6 +1158,7 @@ impl BeltSystem {
         contact_arc(
             self,
             pc,
+            centre,
             surface,
             &mu,
             hi - lo,
@@ -1115,18 +1192,27 @@ impl BeltSystem {
                 }
             }
         }
-        (sum(&b.torque_q[lo..hi]), sum(&b.diss_q[lo..hi]))
+        let on_bodies = if pc.arm.is_some() {
+            [sum(&b.cfx[lo..hi]), sum(&b.cfy[lo..hi])]
+        } else {
+            [0.0; 2]
+        };
+        (sum(&b.torque_q[lo..hi]), sum(&b.diss_q[lo..hi]), on_bodies)
     }
 
     /// Discrete update after every accepted step: the creep displacement of a
     /// body that touches no pulley is reset, and kept within its cap.
     pub fn after_step(&self, y: &mut [f64]) {
         let cap = self.friction.creep_cap();
+        let mut centres = [[0.0; 2]; MAX_PULLEYS];
+        for (j, c) in centres.iter_mut().enumerate().take(self.np) {
+            *c = self.pulley_centre(j, y).0;
+        }
         for i in 0..self.n {
             let o = BODY_DOF * i;
             let (x, yy) = (y[o], y[o + 1]);
-            let touching = self.pulleys[..self.np].iter().any(|pc| {
-                let (rx, ry) = (x - pc.cx, yy - pc.cy);
+            let touching = self.pulleys[..self.np].iter().zip(&centres).any(|(pc, c)| {
+                let (rx, ry) = (x - c[0], yy - c[1]);
                 rx * rx + ry * ry < pc.radius2
             });
             y[o + 6] = if touching {
@@ -1143,13 +1229,17 @@ impl BeltSystem {
         let hl = self.half_length;
         let mut kin = 0.0;
         let mut pot = 0.0;
+        let mut centres = [[0.0; 2]; MAX_PULLEYS];
+        for (j, c) in centres.iter_mut().enumerate().take(self.np) {
+            *c = self.pulley_centre(j, y).0;
+        }
         for i in 0..n {
             let o = BODY_DOF * i;
             let b = &y[o..o + BODY_DOF];
             kin += 0.5 * self.mass * (b[3] * b[3] + b[4] * b[4]) + 0.5 * self.inertia * b[5] * b[5];
             pot += self.mass * self.gravity * b[1];
-            for pc in &self.pulleys[..self.np] {
-                let dist = (b[0] - pc.cx).hypot(b[1] - pc.cy);
+            for (pc, c) in self.pulleys[..self.np].iter().zip(&centres) {
+                let dist = (b[0] - c[0]).hypot(b[1] - c[1]);
                 pot += self.contact.energy(pc.radius - dist);
             }
             let q = &y[BODY_DOF * ((i + n - 1) % n)..];
@@ -1175,6 +1265,12 @@ impl BeltSystem {
                 let d = pc.decoupler_offset;
                 kin += 0.5 * pc.rotor_inertia * y[d + 1] * y[d + 1];
                 pot += dc.energy(y[d]);
+            }
+            if let Some(arm) = &pc.arm {
+                // arm and pulley swinging about the pivot; the spring
+                let (a, w) = (y[pc.arm_offset], y[pc.arm_offset + 1]);
+                kin += 0.5 * arm.inertia * w * w;
+                pot += arm.energy(a);
             }
         }
         (kin, pot)
@@ -1237,6 +1333,7 @@ unsafe fn scatter4(c: [*const f64; BODY_DOF], o: *mut f64) {
 fn contact_arc(
     sys: &BeltSystem,
     pc: &PulleyConst,
+    centre: &[f64; 4],
     surface: f64,
     mu: &impl Fn(f64, f64, f64, f64) -> f64,
     valid: usize,
@@ -1267,8 +1364,6 @@ fn contact_arc(
     // constants in locals: the compiler need not prove that the stores
     // below leave them alone
     let PulleyConst {
-        cx,
-        cy,
         radius,
         radius2,
         lever,
@@ -1277,10 +1372,18 @@ fn contact_arc(
         inv_p_max,
         ..
     } = *pc;
+    // the centre and its velocity: the contact sees the body's motion
+    // relative to it (a tensioner's pulley moves with its arm)
+    let [cx, cy, cvx, cvy] = *centre;
     let (law, friction) = (sys.contact, sys.friction);
     for i in 0..k {
         let z = zs[i];
-        let kin = contact::kinematics([xs[i] - cx, ys[i] - cy], [vxs[i], vys[i]], radius, surface);
+        let kin = contact::kinematics(
+            [xs[i] - cx, ys[i] - cy],
+            [vxs[i] - cvx, vys[i] - cvy],
+            radius,
+            surface,
+        );
         let (normal, elastic) = law.normal_force(kin.p, kin.p_dot, inv_p_max);
         let zf = zfs[i];
         let f = mu(kin.v_t, z, mu_s * zf, mu_k * zf) * normal; // eq. 19, along +tau

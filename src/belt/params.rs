@@ -80,6 +80,19 @@ pub struct PulleyParams {
     pub decoupler_clockwise: bool,
     /// Rotor moment of inertia [kg m^2].
     pub rotor_inertia: f64,
+    /// The pulley sits on an automatic tensioner arm pivoting about
+    /// `arm_pivot` instead of on a fixed centre; `x`, `y` is its mounted
+    /// centre (`elements::tensioner`).
+    pub tensioner: bool,
+    /// Pivot of the tensioner arm [m].
+    pub arm_pivot: [f64; 2],
+    /// Moment of inertia of arm and pulley about the pivot [kg m^2].
+    pub arm_inertia: f64,
+    /// Arm spring [N m/rad], viscous damper [N m s/rad] and Coulomb
+    /// friction torque of the pivot [N m].
+    pub arm_stiffness: f64,
+    pub arm_damping: f64,
+    pub arm_friction: f64,
     /// The pulley follows a prescribed speed instead of eq. 24.
     pub speed_driven: bool,
     /// Resistance torque -load_damping * omega [N m s/rad] (Fig. 13).
@@ -109,6 +122,12 @@ impl PulleyParams {
             decoupler_damping: 0.02,
             decoupler_clockwise: false,
             rotor_inertia: 3e-3,
+            tensioner: false,
+            arm_pivot: [0.0, 0.0],
+            arm_inertia: 1e-3,
+            arm_stiffness: 40.0,
+            arm_damping: 0.0,
+            arm_friction: 0.0,
             speed_driven: false,
             load_damping: 0.0,
             torque_ramp: 0.0,
@@ -311,6 +330,12 @@ impl DriveParams {
             decoupler_damping: 0.02,
             decoupler_clockwise: false,
             rotor_inertia: 3e-3,
+            tensioner: false,
+            arm_pivot: [0.0, 0.0],
+            arm_inertia: 1e-3,
+            arm_stiffness: 40.0,
+            arm_damping: 0.0,
+            arm_friction: 0.0,
             speed_driven: false,
             load_damping: 0.0,
             torque_ramp: 0.0,
@@ -376,6 +401,10 @@ pub(crate) fn param_error(parameter: impl Into<String>, message: impl Into<Strin
 /// the body count (2-core development machine: 150 bodies 0.09 s, 600 1.2 s,
 /// 1200 6.6 s, 2400 83 s), and so does the cost per simulated second.
 pub const MAX_BODIES: usize = 2_000;
+
+/// Shortest tensioner arm accepted [m]: the pivot must not sit at the
+/// pulley centre (the arm would have no lever for the hub force).
+pub const MIN_ARM_LENGTH: f64 = 1e-3;
 
 /// Largest pulley coordinate accepted [m].
 pub const MAX_COORDINATE: f64 = 1000.0;
@@ -528,6 +557,36 @@ impl DriveParams {
                     p.decoupler_damping,
                 )?;
                 positive(&n("rotor.inertia"), p.rotor_inertia)?;
+            }
+            if p.tensioner {
+                check(
+                    near(p.arm_pivot[0]),
+                    &n("arm.pivot.x"),
+                    &within,
+                    p.arm_pivot[0],
+                )?;
+                check(
+                    near(p.arm_pivot[1]),
+                    &n("arm.pivot.y"),
+                    &within,
+                    p.arm_pivot[1],
+                )?;
+                let arm = (p.x - p.arm_pivot[0]).hypot(p.y - p.arm_pivot[1]);
+                if arm < MIN_ARM_LENGTH {
+                    return Err(param_error(
+                        n("arm.pivot.x"),
+                        format!(
+                            "must lie at least {MIN_ARM_LENGTH} m from the pulley centre \
+                             (pulley[{0}].x, pulley[{0}].y), which sets the arm length \
+                             (got an arm of {arm:e} m; automotive tensioner arms are 0.05-0.1 m)",
+                            j + 1
+                        ),
+                    ));
+                }
+                positive(&n("arm.inertia"), p.arm_inertia)?;
+                positive(&n("arm.stiffness"), p.arm_stiffness)?;
+                non_negative(&n("arm.damping"), p.arm_damping)?;
+                non_negative(&n("arm.friction"), p.arm_friction)?;
             }
         }
         Ok(())

@@ -84,6 +84,12 @@ fn real_slot<'a>(p: &'a mut DriveParams, v: &VarInfo) -> Option<&'a mut f64> {
         Var::PulleyDecouplerStiffness => &mut p.pulleys[j].decoupler_stiffness,
         Var::PulleyDecouplerDamping => &mut p.pulleys[j].decoupler_damping,
         Var::PulleyRotorInertia => &mut p.pulleys[j].rotor_inertia,
+        Var::PulleyArmPivotX => &mut p.pulleys[j].arm_pivot[0],
+        Var::PulleyArmPivotY => &mut p.pulleys[j].arm_pivot[1],
+        Var::PulleyArmInertia => &mut p.pulleys[j].arm_inertia,
+        Var::PulleyArmStiffness => &mut p.pulleys[j].arm_stiffness,
+        Var::PulleyArmDamping => &mut p.pulleys[j].arm_damping,
+        Var::PulleyArmFriction => &mut p.pulleys[j].arm_friction,
         _ => return None,
     })
 }
@@ -201,6 +207,7 @@ impl BeltDrive {
             Var::PulleyBackSide => &mut p.back_side,
             Var::PulleyDecoupler => &mut p.decoupler,
             Var::PulleyDecouplerClockwise => &mut p.decoupler_clockwise,
+            Var::PulleyTensioner => &mut p.tensioner,
             _ => return None,
         })
     }
@@ -228,6 +235,10 @@ impl BeltDrive {
             Var::PulleyWrapAngle => p.wrap_angle,
             Var::PulleyRotorOmega => p.rotor_omega,
             Var::PulleyDecouplerTorque => p.decoupler_torque,
+            Var::PulleyArmAngle => p.arm_angle,
+            Var::PulleyArmOmega => p.arm_omega,
+            Var::PulleyArmSpringTorque => p.arm_spring_torque,
+            Var::PulleyArmFreeAngle => p.arm_free_angle,
             Var::ProbeNormalForce => o.probe.normal_force[j],
             Var::ProbeFrictionForce => o.probe.friction_force[j],
             Var::ProbeSlipVelocity => o.probe.slip_velocity[j],

@@ -6,8 +6,9 @@
 use super::*;
 use crate::belt::rkf45::Stats;
 
-/// 2: integrator data (the stiff method's kept Jacobian) after the state.
-const VERSION: u32 = 2;
+/// 2: integrator data (the stiff method's kept Jacobian) after the state;
+/// 3: the tensioner springs' free angles found by the mounting after that.
+pub(super) const VERSION: u32 = 3;
 
 struct Writer<'a>(&'a mut Vec<u8>);
 impl Writer<'_> {
@@ -109,6 +110,7 @@ pub fn write(m: &BeltDrive, out: &mut Vec<u8>) {
             w.f64(s.last_step);
             w.f64s(d.state());
             w.f64s(&d.integrator_data());
+            w.f64s(&d.arm_free_angles());
         }
     }
 }
@@ -118,7 +120,8 @@ pub fn read(bytes: &[u8]) -> Result<BeltDrive, String> {
     let version = u32::from_le_bytes(r.take()?);
     if version != VERSION {
         return Err(format!(
-            "model state version {version} is not supported (expected {VERSION})"
+            "model state version {version} is not supported (expected {VERSION}): it was \
+             saved by another version of BeltDrive; rerun the simulation to that time instead"
         ));
     }
     let mut m = BeltDrive::new();
@@ -162,6 +165,10 @@ pub fn read(bytes: &[u8]) -> Result<BeltDrive, String> {
             let data = r.f64s_any()?;
             if !drive.restore(t, &y, inputs, h, stats, &data) {
                 return Err("model state's integrator data does not fit the parameters".into());
+            }
+            let free = r.f64s(drive.arm_free_angles().len())?;
+            if !drive.set_arm_free_angles(&free) {
+                return Err("model state holds non-finite tensioner free angles".into());
             }
             m.drive = Some(drive);
         }
