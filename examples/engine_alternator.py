@@ -117,8 +117,10 @@ class Alternator:
 
 
 def simulate(stop_time=1.0, step=1e-3, parameters=ROOT / "parameters/accessory-drive-4.ssv",
-             crank=1, alternator=3, ramp_time=0.3, fmu=ROOT / "dist/BeltDrive.fmu", out_dir=None):
-    """Run the coupled system; returns a dict of time series (NumPy arrays)."""
+             crank=1, alternator=3, ramp_time=0.3, fmu=ROOT / "dist/BeltDrive.fmu", out_dir=None,
+             extra_outputs=()):
+    """Run the coupled system; returns a dict of time series (NumPy arrays),
+    with the FMU outputs named in `extra_outputs` recorded too."""
     md = read_model_description(str(fmu))
     vr = {v.name: v.valueReference for v in md.modelVariables}
     var = {v.name: v for v in md.modelVariables}
@@ -156,6 +158,7 @@ def simulate(stop_time=1.0, step=1e-3, parameters=ROOT / "parameters/accessory-d
         **{f"span[{k}].tension": f"span[{k}].tension" for k in range(1, n + 1)},
         **{f"pulley[{j}].hubForce.{x}": f"pulley[{j}].hubForce.{x}"
            for j in range(1, n + 1) for x in "xy"},
+        **{name: name for name in extra_outputs},
     }
     out_vrs = [vr[v] for v in names.values()]
     rows = []

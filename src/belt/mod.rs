@@ -4,7 +4,8 @@
 //! * [`params`]: parameters, the paper's two drives, validation;
 //! * [`layout`]: belt path, body length for the preload, mounted bodies;
 //! * [`elements`]: the force laws, each once (spring-dampers, contact,
-//!   friction, pulley drive and load, V-groove, one-way decoupler) with
+//!   friction, pulley drive and load, V-groove, one-way decoupler,
+//!   tensioner arm) with
 //!   partials, energy and dissipation;
 //! * [`model`]: equations of motion, eq. 20-24 (the right-hand side);
 //! * [`solver_params`]: every internal solver knob with its value and why;

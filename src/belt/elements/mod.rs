@@ -11,9 +11,9 @@
 //!   coefficient;
 //! * [`decoupler`]: the one-way decoupler between a pulley hub and its
 //!   rotor (torsion spring and damper in series with a one-way clutch);
-//! * [`tensioner`]: the pivot torque of an automatic tensioner arm (spring,
-//!   viscous damper, regularised Coulomb friction), not used by the
-//!   equations of motion (docs/model.md, "Not modelled").
+//! * [`tensioner`]: an automatic tensioner arm: the pulley centre on the
+//!   arm, the moment of the hub force about the pivot and the arm's pivot
+//!   torque (spring, viscous damper, regularised Coulomb friction).
 
 pub mod contact;
 pub mod decoupler;

@@ -1,5 +1,5 @@
 //! Automatic tensioner: a pulley whose centre sits on an arm pivoting about
-//! a fixed point (docs/model.md, "Accessory drives").
+//! a fixed point (docs/model.md, "Automatic tensioner arm").
 //!
 //! The arm angle alpha is measured from the mounted position, positive
 //! counterclockwise. The pulley centre is
