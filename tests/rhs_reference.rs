@@ -1,6 +1,7 @@
 //! The optimised right-hand side `BeltSystem::rhs` against a straightforward
-//! reference implementation of the same equations (eq. 4-24), kept here as
-//! the plain per-body loops the model was first written with.
+//! reference implementation of the same equations (eq. 4-24, and the
+//! tensioner arm: moving pulley centre, hub-force moment, pivot torque),
+//! kept here as the plain per-body loops the model was first written with.
 //!
 //! Tolerance: every derivative and every recorded output must agree to
 //! 1e-12 relative to the magnitude of the terms that make it up (the sum of
@@ -18,10 +19,10 @@
 //! law, a missed contact, a wrong sign or lever) is many orders of
 //! magnitude larger than either.
 
-use belt_drive::belt::model::{
-    BeltSystem, Inputs, Recorder, Relaxation, SimdBuild, Workspace, BODY_DOF,
-};
+use belt_drive::belt::elements::tensioner::FRICTION_RATE;
+use belt_drive::belt::model::{BeltSystem, Inputs, Recorder, Relaxation, Workspace, BODY_DOF};
 use belt_drive::belt::params::{PulleyParams, MAX_PULLEYS};
+use belt_drive::belt::simd::Isa;
 use belt_drive::belt::{Drive, DriveParams, FrictionLaw};
 use std::collections::BTreeMap;
 use std::f64::consts::TAU;
@@ -62,6 +63,29 @@ fn reference_rhs<R: Recorder>(
     let mut belt_torque_mag = [0.0; MAX_PULLEYS];
     let mut p_diss = 0.0;
     let mut p_diss_mag = 0.0;
+    // Pulley centres and their velocities: a pulley on a tensioner arm sits
+    // at pivot + R (cos, sin)(phi0 + alpha) and moves with R alpha' (-sin,
+    // cos); the belt's force on it and the magnitude of its terms.
+    let mut centre = [[0.0; 4]; MAX_PULLEYS];
+    for (j, c) in centre.iter_mut().enumerate().take(np) {
+        let pc = &s.pulleys()[j];
+        *c = match &pc.arm {
+            None => [pc.cx, pc.cy, 0.0, 0.0],
+            Some(arm) => {
+                let (a, w) = (y[pc.arm_offset], y[pc.arm_offset + 1]);
+                let (sn, cs) = (arm.phi0 + a).sin_cos();
+                let r = arm.length;
+                [
+                    arm.pivot[0] + r * cs,
+                    arm.pivot[1] + r * sn,
+                    -r * sn * w,
+                    r * cs * w,
+                ]
+            }
+        };
+    }
+    let mut hub = [[0.0; 2]; MAX_PULLEYS];
+    let mut hub_mag = [0.0; MAX_PULLEYS];
 
     let ends = |i: usize| {
         let b = &y[BODY_DOF * i..BODY_DOF * i + BODY_DOF];
@@ -79,7 +103,8 @@ fn reference_rhs<R: Recorder>(
 
     for i in 0..n {
         let o = BODY_DOF * i;
-        let (x, yy, vx, vy, z) = (y[o], y[o + 1], y[o + 3], y[o + 4], y[o + 6]);
+        let (x, yy, z) = (y[o], y[o + 1], y[o + 6]);
+        let (vx, vy) = (y[o + 3], y[o + 4]);
         dy[o] = vx;
         dy[o + 1] = vy;
         dy[o + 2] = y[o + 5];
@@ -91,11 +116,14 @@ fn reference_rhs<R: Recorder>(
         let mut dz = 0.0;
         for j in 0..np {
             let pc = &s.pulleys()[j];
-            let (rx, ry) = (x - pc.cx, yy - pc.cy);
+            let [cx, cy, cvx, cvy] = centre[j];
+            let (rx, ry) = (x - cx, yy - cy);
             let d2 = rx * rx + ry * ry;
             if d2 >= pc.radius2 {
                 continue;
             }
+            // the body's velocity relative to the pulley centre
+            let (vx, vy) = (vx - cvx, vy - cvy);
             let dist = d2.sqrt();
             let inv = 1.0 / dist.max(1e-12);
             let (nx, ny) = (rx * inv, ry * inv);
@@ -103,19 +131,20 @@ fn reference_rhs<R: Recorder>(
             let p_dot = -(vx * nx + vy * ny);
             let (normal, elastic) = s.contact().normal_force(p, p_dot, pc.inv_p_max);
             let (tx, ty) = (-ny, nx);
-            // the pulley's friction lever (the chain's pitch radius, a constant
-            // of the drive: contact::chordal_lever)
-            let v_t = omega_p[j] * pc.lever - (vx * tx + vy * ty);
+            let v_t = omega_p[j] * pc.radius - (vx * tx + vy * ty);
             let zf = s.zone_factor()[i];
             let mu = s.friction().coefficient(v_t, z, pc.mu_s * zf, pc.mu_k * zf);
             let f = mu * normal;
             let (cfx, cfy) = (normal * nx + f * tx, normal * ny + f * ty);
             fx += cfx;
             fy += cfy;
+            hub[j][0] -= cfx;
+            hub[j][1] -= cfy;
+            hub_mag[j] += normal.abs() + f.abs();
             mag[o + 3] += normal.abs() + f.abs();
             mag[o + 4] += normal.abs() + f.abs();
-            belt_torque[j] -= pc.lever * f;
-            belt_torque_mag[j] += (pc.lever * f).abs();
+            belt_torque[j] -= pc.radius * f;
+            belt_torque_mag[j] += (pc.radius * f).abs();
             dz += s.friction().creep_rate(v_t, z);
             mag[o + 6] += v_t.abs();
             let pd = (normal - elastic) * p_dot + f * v_t;
@@ -229,6 +258,32 @@ fn reference_rhs<R: Recorder>(
             rec.pulley(j, belt_torque[j], drive, alpha);
         }
     }
+    // Tensioner arms: I alpha'' = (c - pivot) x F_hub - k (alpha - alpha_free)
+    // - d alpha' - M_c S(alpha' / w_c), S(u) = u (3 - u^2) / 2 saturated.
+    for (j, c) in centre.iter().enumerate().take(np) {
+        let pc = &s.pulleys()[j];
+        let Some(arm) = &pc.arm else { continue };
+        let o = pc.arm_offset;
+        let (a, w) = (y[o], y[o + 1]);
+        dy[o] = w;
+        mag[o] = w.abs();
+        if s.relaxation().pulleys_held {
+            dy[o + 1] = 0.0;
+            mag[o + 1] = 0.0;
+            continue;
+        }
+        let (lx, ly) = (c[0] - arm.pivot[0], c[1] - arm.pivot[1]);
+        let moment = lx * hub[j][1] - ly * hub[j][0];
+        let spring = -arm.stiffness * (a - arm.free_angle);
+        let damper = arm.damping * w;
+        let u = (w / FRICTION_RATE).clamp(-1.0, 1.0);
+        let friction = arm.friction * 0.5 * u * (3.0 - u * u);
+        dy[o + 1] = (moment + spring - damper - friction) / arm.inertia;
+        mag[o + 1] =
+            (arm.length * hub_mag[j] + spring.abs() + damper.abs() + friction.abs()) / arm.inertia;
+        p_diss += (damper + friction) * w;
+        p_diss_mag += (damper * w).abs() + (friction * w).abs();
+    }
     let e = s.energy_offset();
     dy[e] = p_in;
     dy[e + 1] = p_diss;
@@ -322,7 +377,7 @@ fn compare(sys: &BeltSystem, t: f64, y: &[f64], label: &str) -> Exercised {
     );
     // Every build of the same code the CPU can run (baseline SSE2, AVX2,
     // AVX-512) gives the same bits as the one the dispatch picked.
-    for build in [SimdBuild::Baseline, SimdBuild::Avx2, SimdBuild::Avx512] {
+    for build in [Isa::Baseline, Isa::Avx2, Isa::Avx512] {
         let mut dy_build = vec![f64::NAN; dim];
         let ran = sys.rhs_build(
             build,
@@ -332,7 +387,7 @@ fn compare(sys: &BeltSystem, t: f64, y: &[f64], label: &str) -> Exercised {
             &mut dy_build,
             &mut belt_drive::belt::model::NoRecord,
         );
-        assert!(ran || build != SimdBuild::Baseline);
+        assert!(ran || build != Isa::Baseline);
         if !ran {
             continue;
         }
@@ -512,6 +567,16 @@ fn perturb(sys: &BeltSystem, y: &[f64], rng: &mut Rng, amp: f64) -> Vec<f64> {
         let o = sys.pulley_offset(j);
         y[o] += rng.sym();
         y[o + 1] += 20.0 * rng.sym();
+        // a tensioner arm: turned by up to 5e-3 rad (0.4 mm at an 80 mm
+        // arm), its rate in and beyond the pivot friction's ramp
+        let pc = &sys.pulleys()[j];
+        if pc.arm.is_some() {
+            y[pc.arm_offset] += amp * 5e-3 * rng.sym();
+            y[pc.arm_offset + 1] = match rng.pick(3) {
+                0 => 5e-3 * rng.sym(),
+                _ => amp * 2.0 * rng.sym(),
+            };
+        }
     }
     y
 }
@@ -546,6 +611,18 @@ fn drives() -> Vec<(&'static str, DriveParams)> {
     accessory.pulleys = vec![crank, idler, alternator, mk(0.3, -0.05, 0.05)];
     accessory.belt.n_bodies = 203;
     accessory.belt.bending_damping = 1e-5;
+    // the same with the back-side idler and the last pulley (inside the
+    // loop) on tensioner arms with damper and pivot friction
+    let mut arms = accessory.clone();
+    for (j, pivot) in [(1, [0.15, 0.17]), (3, [0.38, -0.05])] {
+        let q = &mut arms.pulleys[j];
+        q.tensioner = true;
+        q.arm_pivot = pivot;
+        q.arm_inertia = 1.5e-3;
+        q.arm_stiffness = 35.0;
+        q.arm_damping = 0.05;
+        q.arm_friction = 2.0;
+    }
     let mut s3 = DriveParams::kubas_section3();
     s3.pulleys[0].ramp_time = 0.002;
     let mut short_ramp = s4.clone();
@@ -557,6 +634,7 @@ fn drives() -> Vec<(&'static str, DriveParams)> {
         ("section 3 creep", s3.clone()),
         ("section 3 kubas2014 dv 1e-2", kubas(s3, 1e-2)),
         ("accessory drive with back-side idler", accessory),
+        ("accessory drive with tensioner arms", arms),
     ]
 }
 
@@ -650,4 +728,9 @@ fn rhs_matches_reference_section3_kubas2014() {
 #[test]
 fn rhs_matches_reference_accessory_drive_back_side_idler() {
     check_drive(5);
+}
+
+#[test]
+fn rhs_matches_reference_accessory_drive_tensioner_arms() {
+    check_drive(6);
 }

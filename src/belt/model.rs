@@ -489,11 +489,7 @@ impl BeltSystem {
                 cy: p.y,
                 radius: p.radius,
                 radius2: p.radius * p.radius,
-                lever: contact::chordal_lever(
-                    p.radius,
-                    layout.wrap_of(j).map_or(0.0, |w| w.penetration),
-                    l,
-                ),
+                lever: p.radius,
                 inv_inertia: 1.0 / p.inertia,
                 inertia: p.inertia,
                 // the groove's wedge effect (elements::groove)
@@ -1393,7 +1389,7 @@ fn contact_arc(
         ofx[i] = keep(fx);
         ofy[i] = keep(fy);
         dz[i] = keep(friction.creep_rate(kin.v_t, z));
-        torque[i] = keep(lever * f); // eq. 24 with the chain's lever
+        torque[i] = keep(lever * f); // eq. 24
         diss[i] = keep(contact::dissipation(&kin, normal, elastic, f));
         if let Some(r) = rec.as_deref_mut() {
             // the contact's share of the belt's loss: its normal damper and

@@ -107,7 +107,7 @@ impl ContactLaw {
 /// plain distance from the pulley centre, the outward normal `n` and the
 /// tangent `t` (n turned by +90 degrees), the penetration `p = r_p - dist`
 /// and its rate, and the relative tangential velocity `v_T` of the pulley
-/// surface over the body (`v_T = omega r_c - v.t`, r_c the lever, [`chordal_lever`]).
+/// surface over the body (`v_T = omega r_c - v.t`, r_c the pulley's friction lever).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContactKin {
     /// Squared distance of the body centre from the pulley centre [m^2].
@@ -128,36 +128,9 @@ pub struct ContactKin {
     pub v_t: f64,
 }
 
-/// Lever of a pulley's friction on a chain of rigid bodies (the pulley's
-/// surface speed is omega times it in [`kinematics`], its torque from a
-/// friction force f is lever times f, eq. 14 and 24), chosen so that the
-/// chain runs at the pulley radius: a belt sticking to a pulley of radius
-/// `radius` moves at omega r on its spans, whatever the body length.
-///
-/// Why not r itself: bodies of length l whose centres lie on the circle of
-/// radius rho = r - p (p the contact penetration) have their ends on the
-/// circle rho_e = sqrt(rho^2 + l^2/4); each body spans the angle
-/// beta = 2 atan(h), h = l / (2 rho), of the pulley. Bodies whose centres
-/// move at v_c pass at beta / (v_c / rho) per body, while on a span each
-/// body takes a length l: the span runs at v_c l / (rho beta) =
-/// v_c h / atan(h) = v_c (1 + h^2/3 - ...). With v_c = omega r (the lever
-/// r) a chain of 8 mm bodies on a 27 mm pulley runs 0.73 % fast, and
-/// differently on pulleys of different radius: a speed ratio error of the
-/// size of the slip itself. The lever r atan(h)/h makes the span run at
-/// omega r exactly, and tends to r as l -> 0 (the continuous belt). The
-/// SDE gap g = l T/EA between bodies adds eps h^2/6 (eps the strain,
-/// ~1e-5) and is left out.
-pub fn chordal_lever(radius: f64, penetration: f64, body_length: f64) -> f64 {
-    let h = body_length / (2.0 * (radius - penetration));
-    if h <= 0.0 || !h.is_finite() {
-        return radius;
-    }
-    radius * h.atan() / h
-}
-
 /// [`ContactKin`] of a body at `r` from the centre of a pulley of `radius`
-/// whose surface moves at `surface` (= omega times the lever,
-/// [`chordal_lever`]), body velocity `v`.
+/// whose surface moves at `surface` (= omega times the friction lever),
+/// body velocity `v`.
 #[inline(always)]
 pub fn kinematics(r: [f64; 2], v: [f64; 2], radius: f64, surface: f64) -> ContactKin {
     let [rx, ry] = r;
@@ -226,7 +199,7 @@ pub struct ContactPartials {
 /// its partials `(N, dN/dp, dN/dp')` ([`ContactLaw::normal_force_jac`]) and
 /// the friction coefficient with its partials `(mu, dmu/dv_T, dmu/dz)`
 /// (the friction law's `coefficient_jac`), on a pulley whose friction has
-/// the lever `lever` ([`chordal_lever`]).
+/// the lever `lever` (the surface speed is omega times it).
 /// With dn/dx = t t^T / dist and dt/dx = -n t^T / dist.
 #[inline(always)]
 pub fn force_partials(

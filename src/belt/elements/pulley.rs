@@ -18,9 +18,9 @@ pub struct PulleyConst {
     pub radius: f64,
     /// r_p^2 [m^2].
     pub radius2: f64,
-    /// Lever of the friction on the pulley, r_c [m]: its surface speed is
-    /// omega r_c and a friction force f turns it by r_c f
-    /// (`contact::chordal_lever`: the chain of bodies runs at r_p).
+    /// Lever of the friction on the pulley [m] (the radius r_p): its
+    /// surface speed is omega times it and a friction force f turns it by
+    /// lever times f (eq. 14, 24).
     pub lever: f64,
     /// 1 / J [1/(kg m^2)].
     pub inv_inertia: f64,
