@@ -18,7 +18,7 @@
 //! * `fmu`: the default drive stepped at 1 ms communication steps through
 //!   the C API against one long doStep over the same horizon;
 //! * `scaling`: cost per body per simulated second from 60 to 1200 bodies;
-//! * `default`: the default drive over 0-0.4 s at its default tolerance;
+//! * `default`: the FMU's default drive (`DriveParams::default()`) over 0-0.4 s at its default tolerance;
 //! * `all`: everything (takes tens of minutes).
 //!
 //! `--method N` sets `solver.method` (1 = RKF45) for the integrator runs.
@@ -34,8 +34,9 @@
 //! `valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*rhs_loop*' <bench binary> count-rhs 150 2000`.
 
 mod common;
-use belt_drive::belt::model::{NoRecord, SimdBuild, Workspace};
+use belt_drive::belt::model::{NoRecord, Workspace};
 use belt_drive::belt::params::Method;
+use belt_drive::belt::simd::Isa as SimdBuild;
 use belt_drive::belt::{Drive, DriveParams, FrictionLaw, Inputs, Outputs};
 use common::{cpu_time, median};
 
@@ -304,7 +305,9 @@ fn bench_accuracy(o: Opts) {
 /// default tolerance (before/after comparisons).
 fn bench_default(o: Opts) {
     let horizon = if o.quick { 0.02 } else { 0.4 };
-    let mut p = DriveParams::kubas_section4();
+    // the FMU's default drive: the paper's section-4 drive with the
+    // automatic contact damping ramp
+    let mut p = DriveParams::default();
     o.apply(&mut p);
     let c0 = cpu_time();
     let mut d = Drive::new(&p, 0.0).expect("valid drive");
@@ -463,7 +466,8 @@ fn main() {
         match a.as_str() {
             "--method" => {
                 let code = it.next().and_then(|s| s.parse().ok()).unwrap_or(0);
-                opts.method = Method::from_code(code).expect("--method: a solver.method code");
+                opts.method =
+                    belt_drive::fmu::names::method(code).expect("--method: a solver.method code");
             }
             "--quick" => opts.quick = true,
             "--rtol" => opts.rtols = Some(numbers(it.next(), "--rtol: comma-separated tolerances")),
@@ -651,7 +655,7 @@ mod fmu {
     pub fn bench_fmu(o: Opts) {
         let t_end = if o.quick { 0.01 } else { 0.2 };
         let api = load();
-        let method = o.method as i32;
+        let method = belt_drive::fmu::names::method_code(o.method);
         println!(
             "## FMU overhead (default drive through the C API, method {:?})",
             o.method

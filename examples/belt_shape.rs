@@ -82,7 +82,8 @@ fn main() {
     if !(stop > 0.0 && frame > 0.0) {
         fail("--stop-time and --frame-step must be positive");
     }
-    let mut d = Drive::new(&p, 0.0).unwrap_or_else(|e| fail(&e.to_string()));
+    let mut d =
+        Drive::new(&p, 0.0).unwrap_or_else(|e| fail(&belt_drive::fmu::names::render_error(&e)));
     let n = p.belt.n_bodies;
     let np = p.pulleys.len();
 

@@ -28,7 +28,8 @@ static GLOBAL: Counting = Counting;
 fn rhs_and_steps_do_not_allocate() {
     // both integrators: RKF45, and the stiff method with its Jacobian,
     // factorizations and stage solves
-    // (and with a grooved pulley and a decoupler on the driven one)
+    // (and with a grooved pulley and a decoupler on the driven one, which
+    // also sits on a tensioner arm)
     for (method, fead) in [
         (Method::Rkf45, false),
         (Method::Rosenbrock, false),
@@ -41,6 +42,9 @@ fn rhs_and_steps_do_not_allocate() {
             p.pulleys[0].groove_angle = 0.7;
             p.pulleys[1].decoupler = true;
             p.pulleys[1].decoupler_clockwise = true;
+            p.pulleys[1].tensioner = true;
+            p.pulleys[1].arm_pivot = [0.515, 0.08];
+            p.pulleys[1].arm_friction = 0.5;
         }
         let mut d = Drive::new(&p, 0.0).unwrap();
         let y = d.state().to_vec();

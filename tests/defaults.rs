@@ -122,7 +122,11 @@ fn run(
     Run {
         averages,
         steps: d.stats().steps,
-        warnings: d.warnings().to_vec(),
+        warnings: d
+            .warnings()
+            .iter()
+            .map(belt_drive::fmu::names::render)
+            .collect(),
     }
 }
 
@@ -149,8 +153,21 @@ fn integrators_agree(
     t1: f64,
     slip_pulley: usize,
 ) -> [Run; 3] {
+    agree_with_reference(name, p, 1e-4, load, t0, t1, slip_pulley)
+}
+
+/// [`integrators_agree`] with RKF45 at `reference_tol`.
+fn agree_with_reference(
+    name: &str,
+    p: &DriveParams,
+    reference_tol: f64,
+    load: Option<(f64, usize, f64)>,
+    t0: f64,
+    t1: f64,
+    slip_pulley: usize,
+) -> [Run; 3] {
     let (reference, stiff) = std::thread::scope(|s| {
-        let h = s.spawn(|| run(p, Method::Rkf45, 1e-4, load, t0, t1));
+        let h = s.spawn(|| run(p, Method::Rkf45, reference_tol, load, t0, t1));
         let stiff = [1e-4, 1e-3].map(|tol| run(p, Method::Rosenbrock, tol, load, t0, t1));
         (h.join().expect("RKF45 run"), stiff)
     });
@@ -277,11 +294,20 @@ fn integrators_agree_on_unequal_pulleys() {
 /// the belt (docs/validation.md): the stiff method must resolve it, not
 /// damp it away, so the mean of |omega_2 - its mean| over 0.3-0.5 s after
 /// the step must be RKF45's within 15 %.
+///
+/// The section-3 parameter set itself (contact.pMax = 1e-5 m, which leaves
+/// a third of the damping on the slack side of the driven wrap) is compared
+/// with RKF45 at relTol 1e-7: there RKF45 at its default 1e-4 is itself
+/// 0.26 % off its converged slack-span tension (91.09 against 90.85 N, means
+/// over 1-2 s), and the stiff method at 1e-4 0.31 % (90.57 N).
 #[test]
 fn integrators_agree_on_the_section3_load_step() {
-    let mut p = DriveParams::kubas_section3();
+    let load = Some((0.3, 1, 10.0));
+    let set = DriveParams::kubas_section3();
+    agree_with_reference("section-3 set, pMax 1e-5", &set, 1e-7, load, 1.0, 2.0, 1);
+    let mut p = set.clone();
     p.contact.p_max = 0.0;
-    integrators_agree("section-3 drive", &p, Some((0.3, 1, 10.0)), 1.0, 2.0, 1);
+    integrators_agree("section-3 drive", &p, load, 1.0, 2.0, 1);
     let ringing = |method: Method| {
         let mut q = p.clone();
         q.solver.method = method;

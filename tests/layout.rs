@@ -3,11 +3,13 @@
 use belt_drive::belt::layout::Layout;
 use belt_drive::belt::params::PulleyParams;
 use belt_drive::belt::{Drive, DriveParams};
+use belt_drive::fmu::names;
 use std::f64::consts::PI;
 
 fn err_of(p: &DriveParams) -> (String, String) {
     let e = Drive::new(p, 0.0).expect_err("must be refused");
-    (e.parameter, e.message)
+    // as the FMU names them
+    (names::param_name(e.parameter), names::render(&e.message))
 }
 
 #[test]

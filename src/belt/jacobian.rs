@@ -18,6 +18,7 @@ use super::elements::contact;
 use super::elements::sde::{self, BodyEnd};
 use super::model::{BeltSystem, PulleyConst, BODY_DOF};
 use super::params::MAX_PULLEYS;
+use super::simd::{self, Isa};
 use super::trig;
 use nalgebra::{Matrix2, Matrix3, RowVector3, SMatrix, Vector2, Vector3};
 
@@ -298,18 +299,17 @@ impl BeltSystem {
     /// Allocates nothing. Runs an AVX2 build of the same code where the CPU
     /// has it (no FMA: the same numbers to the last bit).
     pub fn jacobian(&self, t: f64, y: &[f64], jac: &mut Jacobian) {
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU has AVX2 (checked above).
-            return unsafe { self.jacobian_avx2(t, y, jac) };
-        }
-        self.jacobian_impl(t, y, jac);
+        self.jacobian_with(Isa::detected().min(Isa::Avx2), t, y, jac);
     }
 
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    unsafe fn jacobian_avx2(&self, t: f64, y: &[f64], jac: &mut Jacobian) {
-        self.jacobian_impl(t, y, jac);
+    /// [`Self::jacobian`] built for `isa`.
+    fn jacobian_with(&self, isa: Isa, t: f64, y: &[f64], jac: &mut Jacobian) {
+        simd::dispatch_with(
+            isa,
+            (self, y, jac),
+            #[inline(always)]
+            |(sys, y, jac)| sys.jacobian_impl(t, y, jac),
+        );
     }
 
     #[inline(always)]
@@ -856,9 +856,8 @@ mod tests {
     /// The AVX2 build computes the same numbers to the last bit (it has no
     /// FMA), so results do not depend on the CPU the FMU runs on.
     #[test]
-    #[cfg(target_arch = "x86_64")]
     fn avx2_build_matches_baseline_to_the_bit() {
-        if !std::arch::is_x86_feature_detected!("avx2") {
+        if !Isa::Avx2.available() {
             return;
         }
         for law in [FrictionLaw::Creep, FrictionLaw::Kubas2014] {
@@ -866,9 +865,8 @@ mod tests {
             let sys = d.system();
             let y = running_state(&d, &[0.0, 3e-5, -7e-5, 1.2e-4]);
             let (mut a, mut b) = (Jacobian::new(sys), Jacobian::new(sys));
-            sys.jacobian_impl(0.02, &y, &mut a);
-            // SAFETY: the CPU has AVX2 (checked above).
-            unsafe { sys.jacobian_avx2(0.02, &y, &mut b) };
+            sys.jacobian_with(Isa::Baseline, 0.02, &y, &mut a);
+            sys.jacobian_with(Isa::Avx2, 0.02, &y, &mut b);
             let (mut va, mut vb) = (Vec::new(), Vec::new());
             a.save(&mut va);
             b.save(&mut vb);

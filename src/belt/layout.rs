@@ -12,6 +12,7 @@
 //! `c_j - s_j r_j n(t)`, n(t) the left normal of t.
 
 use super::model::wrap_angle;
+use super::param_id::{msg, Param, Part};
 use super::params::{param_error, DriveParams, ParamError};
 use std::f64::consts::TAU;
 
@@ -140,14 +141,18 @@ fn path_for_order(
         let k = side(b) * rb - side(a) * ra;
         if k.abs() >= dist {
             return Err(param_error(
-                format!("pulley[{}].backSide", b + 1),
-                format!(
-                    "no common tangent from pulley[{}] to pulley[{}]: the belt path cannot be \
-                     wrapped with these wrap sides (centre distance {dist:.4} m must exceed {:.4} m)",
-                    a + 1,
-                    b + 1,
-                    k.abs()
-                ),
+                Param::PulleyBackSide(b),
+                msg![
+                    "no common tangent from ",
+                    Part::Pulley(a),
+                    " to ",
+                    Part::Pulley(b),
+                    format!(
+                        ": the belt path cannot be wrapped with these wrap sides (centre \
+                         distance {dist:.4} m must exceed {:.4} m)",
+                        k.abs()
+                    ),
+                ],
             ));
         }
         let angle = d[1].atan2(d[0]) - (k / dist).asin();
@@ -199,7 +204,7 @@ fn path_in_belt_order(
         Some(p) => p,
         None => path_for_order(params, radii, &backward)?.ok_or_else(|| {
             param_error(
-                "pulley[1].backSide",
+                Param::PulleyBackSide(0),
                 "the pulleys, in the listed order and wrap sides, do not form a simple closed \
                  belt loop (check the order and which pulleys are back-side idlers)",
             )
@@ -208,12 +213,12 @@ fn path_in_belt_order(
     for w in &wraps {
         if w.angle < 1e-3 {
             return Err(param_error(
-                format!("pulley[{}].backSide", w.pulley + 1),
-                format!(
-                    "the belt does not wrap pulley[{}] (wrap angle {:.2e} rad)",
-                    w.pulley + 1,
-                    w.angle
-                ),
+                Param::PulleyBackSide(w.pulley),
+                msg![
+                    "the belt does not wrap ",
+                    Part::Pulley(w.pulley),
+                    format!(" (wrap angle {:.2e} rad)", w.angle),
+                ],
             ));
         }
     }
@@ -227,27 +232,33 @@ fn check_spans(params: &DriveParams, spans: &[Span]) -> Result<(), ParamError> {
             if j != s.from && j != s.to && dist_point_segment([p.x, p.y], s.start, s.end) < p.radius
             {
                 return Err(param_error(
-                    format!("pulley[{}].x", j + 1),
-                    format!(
-                        "the span from pulley[{}] to pulley[{}] runs through pulley[{}]",
-                        s.from + 1,
-                        s.to + 1,
-                        j + 1
-                    ),
+                    Param::PulleyX(j),
+                    msg![
+                        "the span from ",
+                        Part::Pulley(s.from),
+                        " to ",
+                        Part::Pulley(s.to),
+                        " runs through ",
+                        Part::Pulley(j),
+                    ],
                 ));
             }
         }
         for q in spans.iter().skip(m + 2) {
             if q.to != s.from && segments_cross(s.start, s.end, q.start, q.end) {
                 return Err(param_error(
-                    format!("pulley[{}].x", q.from + 1),
-                    format!(
-                        "the spans pulley[{}]->pulley[{}] and pulley[{}]->pulley[{}] cross",
-                        s.from + 1,
-                        s.to + 1,
-                        q.from + 1,
-                        q.to + 1
-                    ),
+                    Param::PulleyX(q.from),
+                    msg![
+                        "the spans ",
+                        Part::Pulley(s.from),
+                        "->",
+                        Part::Pulley(s.to),
+                        " and ",
+                        Part::Pulley(q.from),
+                        "->",
+                        Part::Pulley(q.to),
+                        " cross",
+                    ],
                 ));
             }
         }
@@ -291,23 +302,28 @@ impl Layout {
                             String::new()
                         };
                         return Err(param_error(
-                            format!("pulley[{}].radius", k + 1),
-                            format!(
-                                "{r} m must be less than the centre distance {dist:.4} m to \
-                                 pulley[{}]{unit}",
-                                other + 1
-                            ),
+                            Param::PulleyRadius(k),
+                            msg![
+                                format!(
+                                    "{r} m must be less than the centre distance {dist:.4} m to "
+                                ),
+                                Part::Pulley(other),
+                                unit,
+                            ],
                         ));
                     }
                     return Err(param_error(
-                        format!("pulley[{}].x", b + 1),
-                        format!(
-                            "pulley[{}] overlaps pulley[{}]: centre distance {dist:.4} m must \
-                             exceed the sum of radii {:.4} m",
-                            b + 1,
-                            a + 1,
-                            pa.radius + pb.radius
-                        ),
+                        Param::PulleyX(b),
+                        msg![
+                            Part::Pulley(b),
+                            " overlaps ",
+                            Part::Pulley(a),
+                            format!(
+                                ": centre distance {dist:.4} m must exceed the sum of radii \
+                                 {:.4} m",
+                                pa.radius + pb.radius
+                            ),
+                        ],
                     ));
                 }
             }
@@ -352,41 +368,51 @@ impl Layout {
                         let back = params.pulleys[w.pulley].back_side;
                         let wrap = other.wrap_of(w.pulley).map_or(0.0, |w| w.angle);
                         return Err(param_error(
-                            format!("pulley[{}].backSide", w.pulley + 1),
-                            format!(
-                                "with backSide = {} the belt wraps pulley[{}] by only {:.0} deg, \
-                                 too little for {n} bodies of {:.1} mm; with backSide = {} \
-                                 (the belt's {} on it) it wraps {:.0} deg and the mesh \
-                                 resolves it. Check which side of the belt touches \
-                                 pulley[{}]; to keep backSide = {} use belt.nBodies >= {}",
-                                side(back),
-                                w.pulley + 1,
-                                w.angle.to_degrees(),
-                                body_length * 1e3,
-                                side(!back),
-                                if back { "inner side" } else { "back" },
-                                wrap.to_degrees(),
-                                w.pulley + 1,
-                                side(back),
-                                (path_length / (r * (w.angle / 3.0).min(0.5))).ceil() as usize
-                            ),
+                            Param::PulleyBackSide(w.pulley),
+                            msg![
+                                format!("with backSide = {} the belt wraps ", side(back)),
+                                Part::Pulley(w.pulley),
+                                format!(
+                                    " by only {:.0} deg, too little for {n} bodies of {:.1} mm; \
+                                     with backSide = {} (the belt's {} on it) it wraps {:.0} deg \
+                                     and the mesh resolves it. Check which side of the belt \
+                                     touches ",
+                                    w.angle.to_degrees(),
+                                    body_length * 1e3,
+                                    side(!back),
+                                    if back { "inner side" } else { "back" },
+                                    wrap.to_degrees(),
+                                ),
+                                Part::Pulley(w.pulley),
+                                format!("; to keep backSide = {} use ", side(back)),
+                                Param::BeltBodies,
+                                format!(
+                                    " >= {}",
+                                    (path_length / (r * (w.angle / 3.0).min(0.5))).ceil() as usize
+                                ),
+                            ],
                         ));
                     }
                 }
                 // Longest body that meets both conditions on this wrap.
                 let l_max = r * (w.angle / 3.0).min(0.5);
                 return Err(param_error(
-                    "belt.nBodies",
-                    format!(
-                        "{n} bodies of {:.1} mm are too coarse for the {:.0} deg wrap of pulley[{}] \
-                         (radius {:.1} mm): at least 3 bodies per wrap and at most 29 deg of arc \
-                         each are needed: use belt.nBodies >= {}",
-                        body_length * 1e3,
-                        w.angle.to_degrees(),
-                        w.pulley + 1,
-                        r * 1e3,
-                        (path_length / l_max).ceil() as usize
-                    ),
+                    Param::BeltBodies,
+                    msg![
+                        format!(
+                            "{n} bodies of {:.1} mm are too coarse for the {:.0} deg wrap of ",
+                            body_length * 1e3,
+                            w.angle.to_degrees(),
+                        ),
+                        Part::Pulley(w.pulley),
+                        format!(
+                            " (radius {:.1} mm): at least 3 bodies per wrap and at most 29 deg \
+                             of arc each are needed: use ",
+                            r * 1e3,
+                        ),
+                        Param::BeltBodies,
+                        format!(" >= {}", (path_length / l_max).ceil() as usize),
+                    ],
                 ));
             }
         }
@@ -489,7 +515,7 @@ fn solve_body_length(
     bodies_on_path(params, spans, wraps, l);
     if !(l.is_finite() && l > 0.0) {
         return Err(param_error(
-            "belt.nBodies",
+            Param::BeltBodies,
             "no body length fits the belt path",
         ));
     }

@@ -2,6 +2,8 @@
 //! K. Kubas (2014), sections 2.1-2.3. Nothing in here knows about FMI.
 //!
 //! * [`params`]: parameters, the paper's two drives, validation;
+//! * [`param_id`]: how errors and warnings name a parameter (an id, spelt
+//!   by whoever shows the message);
 //! * [`layout`]: belt path, body length for the preload, mounted bodies;
 //! * [`elements`]: the force laws, each once (spring-dampers, contact,
 //!   friction, pulley drive and load, V-groove, one-way decoupler,
@@ -13,6 +15,8 @@
 //! * [`rkf45`]: the adaptive Runge-Kutta-Fehlberg 4(5) integrator;
 //! * [`jacobian`], [`iteration_matrix`], [`rosenbrock`]: the stiff
 //!   integrator (Rosenbrock-W ROS34PW2, analytic Jacobian, O(n) stage solve);
+//! * [`simd`]: the instruction set detected once, and the dispatch of the
+//!   vector kernels (the only `target_feature` code);
 //! * [`trig`]: branch-free sine, cosine and angle wrap for the vectorised loops;
 //! * [`drive`]: a drive that runs, with its outputs.
 
@@ -22,9 +26,11 @@ pub mod iteration_matrix;
 pub mod jacobian;
 pub mod layout;
 pub mod model;
+pub mod param_id;
 pub mod params;
 pub mod rkf45;
 pub mod rosenbrock;
+pub mod simd;
 pub mod solver_params;
 pub mod stepping;
 pub mod trig;

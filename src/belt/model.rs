@@ -20,6 +20,7 @@ use super::elements::sde::{self, AxialSde, BodyEnd, TorsionalSde};
 use super::elements::tensioner::Arm;
 use super::layout::Layout;
 use super::params::{DriveParams, FrictionLaw, MAX_PULLEYS};
+use super::simd::{self, Isa};
 use super::solver_params::TUNING;
 use super::trig;
 
@@ -130,17 +131,6 @@ pub struct BeltSystem {
 }
 
 pub(crate) use super::trig::wrap_angle;
-
-/// Instruction sets the right-hand side is compiled for; [`BeltSystem::rhs`]
-/// picks the widest the CPU has at run time.
-#[doc(hidden)]
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SimdBuild {
-    /// The binary's baseline (SSE2 on x86-64).
-    Baseline,
-    Avx2,
-    Avx512,
-}
 
 /// What the body blocks of the right-hand side read and accumulate per
 /// pulley: speeds and centres (x, y, vx, vy) in, belt torque and the belt's
@@ -275,102 +265,32 @@ impl Block {
     }
 
     /// Copies the consecutive bodies of `src` (`[x, y, phi, vx, vy, omega,
-    /// z]` each) into the columns at index `m` onwards. Pure data movement:
-    /// two bodies at a time by 128-bit loads and shuffles on x86-64 (SSE2,
-    /// part of the baseline), element by element elsewhere.
-    /// With `WIDE` (AVX available), four bodies at a time first.
+    /// z]` each) into the columns at index `m` onwards
+    /// ([`simd::gather`]; `WIDE` only in the AVX builds).
     #[inline(always)]
     fn gather<const WIDE: bool>(&mut self, m: usize, src: &[f64]) {
-        let count = src.len() / BODY_DOF;
-        assert!(m + count <= BLOCK + 2 && src.len() == count * BODY_DOF);
-        let mut k = 0;
-        #[cfg(target_arch = "x86_64")]
-        if WIDE {
-            while k + 4 <= count {
-                // SAFETY: WIDE is set only in builds for CPUs with AVX;
-                // bodies k..k + 4 lie in `src`, columns m + k..m + k + 4 in
-                // the arrays (asserted above).
-                unsafe { self.gather4(m + k, src.as_ptr().add(BODY_DOF * k)) };
-                k += 4;
-            }
-        }
-        #[cfg(target_arch = "x86_64")]
-        {
-            use std::arch::x86_64::{_mm_loadu_pd, _mm_shuffle_pd, _mm_storeu_pd};
-            while k + 2 <= count {
-                let d = m + k;
-                // SAFETY: bodies k and k + 1 lie in `src` and columns d,
-                // d + 1 in the arrays (both asserted above).
-                unsafe {
-                    let s = src.as_ptr().add(BODY_DOF * k);
-                    // l = (a0 a1) (a2 a3) (a4 a5) (a6 b0) (b1 b2) (b3 b4) (b5 b6)
-                    let l: [_; BODY_DOF] = std::array::from_fn(|i| _mm_loadu_pd(s.add(2 * i)));
-                    _mm_storeu_pd(self.x.as_mut_ptr().add(d), _mm_shuffle_pd(l[0], l[3], 0b10));
-                    _mm_storeu_pd(self.y.as_mut_ptr().add(d), _mm_shuffle_pd(l[0], l[4], 0b01));
-                    _mm_storeu_pd(
-                        self.phi.as_mut_ptr().add(d),
-                        _mm_shuffle_pd(l[1], l[4], 0b10),
-                    );
-                    _mm_storeu_pd(
-                        self.vx.as_mut_ptr().add(d),
-                        _mm_shuffle_pd(l[1], l[5], 0b01),
-                    );
-                    _mm_storeu_pd(
-                        self.vy.as_mut_ptr().add(d),
-                        _mm_shuffle_pd(l[2], l[5], 0b10),
-                    );
-                    _mm_storeu_pd(self.w.as_mut_ptr().add(d), _mm_shuffle_pd(l[2], l[6], 0b01));
-                    _mm_storeu_pd(self.z.as_mut_ptr().add(d), _mm_shuffle_pd(l[3], l[6], 0b10));
-                }
-                k += 2;
-            }
-        }
-        for (k, s) in (k..count).zip(src[BODY_DOF * k..].chunks_exact(BODY_DOF)) {
-            let d = m + k;
-            self.x[d] = s[0];
-            self.y[d] = s[1];
-            self.phi[d] = s[2];
-            self.vx[d] = s[3];
-            self.vy[d] = s[4];
-            self.w[d] = s[5];
-            self.z[d] = s[6];
-        }
-    }
-
-    /// Four bodies at `s` (28 values) into columns d..d + 4: two 4 x 4
-    /// transposes of (x, y, phi, vx) and (vx, vy, omega, z).
-    ///
-    /// # Safety
-    /// The CPU has AVX; `s` points to 28 readable values; d + 4 <= BLOCK + 2.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx")]
-    #[inline]
-    unsafe fn gather4(&mut self, d: usize, s: *const f64) {
-        use std::arch::x86_64::{_mm256_loadu_pd, _mm256_storeu_pd};
-        let rows =
-            |o: usize| std::array::from_fn(|b| unsafe { _mm256_loadu_pd(s.add(BODY_DOF * b + o)) });
-        let [x, y, phi, _] = transpose4(rows(0));
-        let [vx, vy, w, z] = transpose4(rows(3));
-        for (col, v) in [
-            (&mut self.x, x),
-            (&mut self.y, y),
-            (&mut self.phi, phi),
-            (&mut self.vx, vx),
-            (&mut self.vy, vy),
-            (&mut self.w, w),
-            (&mut self.z, z),
-        ] {
-            unsafe { _mm256_storeu_pd(col.as_mut_ptr().add(d), v) };
-        }
+        assert!(m + src.len() / BODY_DOF <= BLOCK + 2);
+        simd::gather::<WIDE, { BLOCK + 2 + PAD }>(
+            [
+                &mut self.x,
+                &mut self.y,
+                &mut self.phi,
+                &mut self.vx,
+                &mut self.vy,
+                &mut self.w,
+                &mut self.z,
+            ],
+            m,
+            src,
+        );
     }
 
     /// Writes the derivatives of bodies 0..len of the block into `dst`
     /// (`[vx, vy, omega, ax, ay, alpha, dz/dt]` each), the inverse of
-    /// [`Self::gather`].
+    /// [`Self::gather`] ([`simd::scatter`]).
     #[inline(always)]
     fn scatter<const WIDE: bool>(&self, dst: &mut [f64]) {
-        let count = dst.len() / BODY_DOF;
-        assert!(count <= BLOCK && dst.len() == count * BODY_DOF);
+        assert!(dst.len() / BODY_DOF <= BLOCK);
         let cols: [&[f64]; BODY_DOF] = [
             &self.vx[1..],
             &self.vy[1..],
@@ -380,50 +300,7 @@ impl Block {
             &self.alpha,
             &self.dz,
         ];
-        let mut k = 0;
-        #[cfg(target_arch = "x86_64")]
-        if WIDE {
-            while k + 4 <= count {
-                // SAFETY: WIDE is set only in builds for CPUs with AVX;
-                // every column holds at least `count` values and bodies
-                // k..k + 4 lie in `dst` (asserted above).
-                unsafe {
-                    let c: [*const f64; BODY_DOF] =
-                        std::array::from_fn(|i| cols[i].as_ptr().add(k));
-                    scatter4(c, dst.as_mut_ptr().add(BODY_DOF * k));
-                }
-                k += 4;
-            }
-        }
-        #[cfg(target_arch = "x86_64")]
-        {
-            use std::arch::x86_64::{
-                _mm_loadu_pd, _mm_shuffle_pd, _mm_storeu_pd, _mm_unpackhi_pd, _mm_unpacklo_pd,
-            };
-            while k + 2 <= count {
-                // SAFETY: every column holds at least `count` values
-                // (asserted above) and bodies k, k + 1 lie in `dst`.
-                unsafe {
-                    // c[i] = (a_i b_i)
-                    let c: [_; BODY_DOF] =
-                        std::array::from_fn(|i| _mm_loadu_pd(cols[i].as_ptr().add(k)));
-                    let o = dst.as_mut_ptr().add(BODY_DOF * k);
-                    _mm_storeu_pd(o, _mm_unpacklo_pd(c[0], c[1]));
-                    _mm_storeu_pd(o.add(2), _mm_unpacklo_pd(c[2], c[3]));
-                    _mm_storeu_pd(o.add(4), _mm_unpacklo_pd(c[4], c[5]));
-                    _mm_storeu_pd(o.add(6), _mm_shuffle_pd(c[6], c[0], 0b10));
-                    _mm_storeu_pd(o.add(8), _mm_unpackhi_pd(c[1], c[2]));
-                    _mm_storeu_pd(o.add(10), _mm_unpackhi_pd(c[3], c[4]));
-                    _mm_storeu_pd(o.add(12), _mm_unpackhi_pd(c[5], c[6]));
-                }
-                k += 2;
-            }
-        }
-        for (k, d) in (k..count).zip(dst[BODY_DOF * k..].chunks_exact_mut(BODY_DOF)) {
-            for (v, col) in d.iter_mut().zip(cols) {
-                *v = col[k];
-            }
-        }
+        simd::scatter::<WIDE>(cols, dst);
     }
 }
 
@@ -771,19 +648,28 @@ impl BeltSystem {
         dy: &mut [f64],
         rec: &mut R,
     ) {
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx512f") {
-            // SAFETY: the CPU has AVX-512F (checked above).
-            unsafe { self.rhs_avx512(ws, t, y, dy, rec) };
-            return;
-        }
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU has AVX2 (checked above).
-            unsafe { self.rhs_avx2(ws, t, y, dy, rec) };
-            return;
-        }
-        self.rhs_impl::<R, false>(ws, t, y, dy, rec);
+        self.rhs_with(Isa::detected(), ws, t, y, dy, rec);
+    }
+
+    /// [`Self::rhs`] compiled for `isa` (the baseline if the CPU lacks it).
+    #[inline]
+    fn rhs_with<R: Recorder>(
+        &self,
+        isa: Isa,
+        ws: &mut Workspace,
+        t: f64,
+        y: &[f64],
+        dy: &mut [f64],
+        rec: &mut R,
+    ) {
+        simd::dispatch_wide(
+            isa,
+            (ws, dy, rec),
+            #[inline(always)]
+            move |(ws, dy, rec)| self.rhs_impl::<R, false>(ws, t, y, dy, rec),
+            #[inline(always)]
+            move |(ws, dy, rec)| self.rhs_impl::<R, true>(ws, t, y, dy, rec),
+        );
     }
 
     /// [`Self::rhs`] compiled for one instruction set, if the CPU has it
@@ -792,59 +678,18 @@ impl BeltSystem {
     #[doc(hidden)]
     pub fn rhs_build<R: Recorder>(
         &self,
-        build: SimdBuild,
+        build: Isa,
         ws: &mut Workspace,
         t: f64,
         y: &[f64],
         dy: &mut [f64],
         rec: &mut R,
     ) -> bool {
-        match build {
-            SimdBuild::Baseline => self.rhs_impl::<R, false>(ws, t, y, dy, rec),
-            #[cfg(target_arch = "x86_64")]
-            SimdBuild::Avx2 if std::arch::is_x86_feature_detected!("avx2") => {
-                // SAFETY: the CPU has AVX2 (checked above).
-                unsafe { self.rhs_avx2(ws, t, y, dy, rec) }
-            }
-            #[cfg(target_arch = "x86_64")]
-            SimdBuild::Avx512 if std::arch::is_x86_feature_detected!("avx512f") => {
-                // SAFETY: the CPU has AVX-512F (checked above).
-                unsafe { self.rhs_avx512(ws, t, y, dy, rec) }
-            }
-            _ => return false,
+        if !build.available() {
+            return false;
         }
+        self.rhs_with(build, ws, t, y, dy, rec);
         true
-    }
-
-    /// [`Self::rhs`] compiled for AVX-512F (8 doubles per vector). Same
-    /// operations as the other builds, so the same results to the last bit
-    /// (no FMA: it would change rounding).
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx512f")]
-    unsafe fn rhs_avx512<R: Recorder>(
-        &self,
-        ws: &mut Workspace,
-        t: f64,
-        y: &[f64],
-        dy: &mut [f64],
-        rec: &mut R,
-    ) {
-        self.rhs_impl::<R, true>(ws, t, y, dy, rec);
-    }
-
-    /// [`Self::rhs`] compiled for AVX2 (4 doubles per vector instead of
-    /// SSE2's 2), no FMA.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    unsafe fn rhs_avx2<R: Recorder>(
-        &self,
-        ws: &mut Workspace,
-        t: f64,
-        y: &[f64],
-        dy: &mut [f64],
-        rec: &mut R,
-    ) {
-        self.rhs_impl::<R, true>(ws, t, y, dy, rec);
     }
 
     /// `WIDE`: compiled into a build with AVX (the layout conversions then
@@ -1270,47 +1115,6 @@ impl BeltSystem {
             }
         }
         (kin, pot)
-    }
-}
-
-/// 4 x 4 transpose: rows (r_i0, r_i1, r_i2, r_i3) to columns.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx")]
-#[inline]
-fn transpose4(r: [std::arch::x86_64::__m256d; 4]) -> [std::arch::x86_64::__m256d; 4] {
-    use std::arch::x86_64::{_mm256_permute2f128_pd, _mm256_unpackhi_pd, _mm256_unpacklo_pd};
-    let t0 = _mm256_unpacklo_pd(r[0], r[1]); // r00 r10 r02 r12
-    let t1 = _mm256_unpackhi_pd(r[0], r[1]); // r01 r11 r03 r13
-    let t2 = _mm256_unpacklo_pd(r[2], r[3]);
-    let t3 = _mm256_unpackhi_pd(r[2], r[3]);
-    [
-        _mm256_permute2f128_pd(t0, t2, 0x20),
-        _mm256_permute2f128_pd(t1, t3, 0x20),
-        _mm256_permute2f128_pd(t0, t2, 0x31),
-        _mm256_permute2f128_pd(t1, t3, 0x31),
-    ]
-}
-
-/// Seven columns of four bodies each (`c[i]` -> values i of bodies 0..4)
-/// to four bodies at `o` (28 values): two 4 x 4 transposes, of columns
-/// 0-3 and 3-6, stored at offsets 0 and 3 of each body (value 3 twice).
-///
-/// # Safety
-/// The CPU has AVX; each `c[i]` points to 4 readable values, `o` to 28
-/// writable ones.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx")]
-#[inline]
-unsafe fn scatter4(c: [*const f64; BODY_DOF], o: *mut f64) {
-    use std::arch::x86_64::{_mm256_loadu_pd, _mm256_storeu_pd};
-    let col = |i: usize| unsafe { _mm256_loadu_pd(c[i]) };
-    let lo = transpose4([col(0), col(1), col(2), col(3)]);
-    let hi = transpose4([col(3), col(4), col(5), col(6)]);
-    for b in 0..4 {
-        unsafe {
-            _mm256_storeu_pd(o.add(BODY_DOF * b), lo[b]);
-            _mm256_storeu_pd(o.add(BODY_DOF * b + 3), hi[b]);
-        }
     }
 }
 

@@ -7,6 +7,7 @@
 //! mesh models the same belt. See `docs/model.md`, "Parameters".
 
 use super::elements::groove::MIN_GROOVE_ANGLE;
+use super::param_id::{msg, Message, Param, Part};
 
 /// Number of pulley slots.
 pub const MAX_PULLEYS: usize = 6;
@@ -16,39 +17,19 @@ pub const MAX_PULLEYS: usize = 6;
 pub enum FrictionLaw {
     /// Eq. 12-19 as printed: velocity-regularised Coulomb friction with a
     /// creep term; stiff for small `dv`.
-    Kubas2014 = 1,
+    Kubas2014,
     /// Elastic-plastic creep law (ref. [11]): friction grows with the
     /// integrated creep displacement, slides at mu_k.
-    Creep = 2,
-}
-
-impl FrictionLaw {
-    pub fn from_code(code: i32) -> Option<Self> {
-        match code {
-            1 => Some(Self::Kubas2014),
-            2 => Some(Self::Creep),
-            _ => None,
-        }
-    }
+    Creep,
 }
 
 /// Which integrator advances the state.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Method {
     /// Runge-Kutta-Fehlberg 4(5), the paper's method.
-    Rkf45 = 1,
+    Rkf45,
     /// Linearly implicit Rosenbrock-W method ROS34PW2 (stiff, L-stable).
-    Rosenbrock = 2,
-}
-
-impl Method {
-    pub fn from_code(code: i32) -> Option<Self> {
-        match code {
-            1 => Some(Self::Rkf45),
-            2 => Some(Self::Rosenbrock),
-            _ => None,
-        }
-    }
+    Rosenbrock,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -376,9 +357,10 @@ impl DriveParams {
 /// A parameter the model refuses, with the name the user knows it by.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ParamError {
-    /// Variable name as in modelDescription.xml, e.g. `pulley[2].radius`.
-    pub parameter: String,
-    pub message: String,
+    /// The parameter that is wrong.
+    pub parameter: Param,
+    /// What is wrong with it and how to fix it.
+    pub message: Message,
 }
 
 impl std::fmt::Display for ParamError {
@@ -389,10 +371,22 @@ impl std::fmt::Display for ParamError {
 
 impl std::error::Error for ParamError {}
 
-pub(crate) fn param_error(parameter: impl Into<String>, message: impl Into<String>) -> ParamError {
+pub(crate) fn param_error(parameter: Param, message: impl Into<Message>) -> ParamError {
     ParamError {
-        parameter: parameter.into(),
+        parameter,
         message: message.into(),
+    }
+}
+
+impl From<&str> for Message {
+    fn from(s: &str) -> Self {
+        Self(vec![Part::from(s)])
+    }
+}
+
+impl From<String> for Message {
+    fn from(s: String) -> Self {
+        Self(vec![Part::from(s)])
     }
 }
 
@@ -409,23 +403,26 @@ pub const MIN_ARM_LENGTH: f64 = 1e-3;
 /// Largest pulley coordinate accepted [m].
 pub const MAX_COORDINATE: f64 = 1000.0;
 
-fn check(ok: bool, name: &str, what: &str, value: f64) -> Result<(), ParamError> {
+fn check(ok: bool, name: Param, what: impl Into<Message>, value: f64) -> Result<(), ParamError> {
     if ok {
         Ok(())
     } else {
-        Err(param_error(name, format!("must be {what} (got {value})")))
+        let mut m = msg!["must be "];
+        m.0.extend(what.into().0);
+        m.0.push(Part::from(format!(" (got {value})")));
+        Err(param_error(name, m))
     }
 }
 
-fn positive(name: &str, v: f64) -> Result<(), ParamError> {
+fn positive(name: Param, v: f64) -> Result<(), ParamError> {
     check(v.is_finite() && v > 0.0, name, "finite and > 0", v)
 }
 
-fn non_negative(name: &str, v: f64) -> Result<(), ParamError> {
+fn non_negative(name: Param, v: f64) -> Result<(), ParamError> {
     check(v.is_finite() && v >= 0.0, name, "finite and >= 0", v)
 }
 
-fn finite(name: &str, v: f64) -> Result<(), ParamError> {
+fn finite(name: Param, v: f64) -> Result<(), ParamError> {
     check(v.is_finite(), name, "finite", v)
 }
 
@@ -436,66 +433,70 @@ impl DriveParams {
         let np = self.pulleys.len();
         if !(2..=MAX_PULLEYS).contains(&np) {
             return Err(param_error(
-                "nPulleys",
+                Param::PulleyCount,
                 format!("must be in 2..={MAX_PULLEYS} (got {np})"),
             ));
         }
         let b = &self.belt;
         if !(3..=MAX_BODIES).contains(&b.n_bodies) {
             return Err(param_error(
-                "belt.nBodies",
+                Param::BeltBodies,
                 format!("must be in 3..={MAX_BODIES} (got {})", b.n_bodies),
             ));
         }
-        non_negative("belt.preload", b.preload)?;
-        positive("belt.EA", b.ea)?;
+        non_negative(Param::BeltPreload, b.preload)?;
+        positive(Param::BeltEa, b.ea)?;
         check(
             b.preload < 0.5 * b.ea,
-            "belt.preload",
-            "below half of belt.EA (strain < 50 %)",
+            Param::BeltPreload,
+            msg!["below half of ", Param::BeltEa, " (strain < 50 %)"],
             b.preload,
         )?;
-        non_negative("belt.axialDamping", b.axial_damping)?;
-        non_negative("belt.bendingStiffness", b.bending_stiffness)?;
-        non_negative("belt.bendingDamping", b.bending_damping)?;
-        positive("belt.massPerLength", b.mass_per_length)?;
+        non_negative(Param::BeltAxialDamping, b.axial_damping)?;
+        non_negative(Param::BeltBendingStiffness, b.bending_stiffness)?;
+        non_negative(Param::BeltBendingDamping, b.bending_damping)?;
+        positive(Param::BeltMassPerLength, b.mass_per_length)?;
         let c = &self.contact;
-        non_negative("contact.c1", c.c1)?;
-        non_negative("contact.c2", c.c2)?;
+        non_negative(Param::ContactC1, c.c1)?;
+        non_negative(Param::ContactC2, c.c2)?;
         check(
             c.c1 > 0.0 || c.c2 > 0.0,
-            "contact.c2",
-            "> 0 when contact.c1 is 0 (no contact stiffness)",
+            Param::ContactC2,
+            msg![
+                "> 0 when ",
+                Param::ContactC1,
+                " is 0 (no contact stiffness)"
+            ],
             c.c2,
         )?;
-        non_negative("contact.damping", c.damping)?;
-        non_negative("contact.pMax", c.p_max)?;
+        non_negative(Param::ContactDamping, c.damping)?;
+        non_negative(Param::ContactPMax, c.p_max)?;
         let f = &self.friction;
-        positive("friction.dv", f.dv)?;
-        positive("friction.creepMax", f.creep_max)?;
+        positive(Param::FrictionDv, f.dv)?;
+        positive(Param::FrictionCreepMax, f.creep_max)?;
         check(
             (0.0..=1.0).contains(&f.creep_damping_time),
-            "friction.creepDampingTime",
+            Param::FrictionCreepDampingTime,
             "in 0..=1 s",
             f.creep_damping_time,
         )?;
-        non_negative("friction.zoneFactor", f.zone_factor)?;
+        non_negative(Param::FrictionZoneFactor, f.zone_factor)?;
         if f.zone_bodies > 0 && f.zone_start >= b.n_bodies {
             return Err(param_error(
-                "friction.zoneStart",
+                Param::FrictionZoneStart,
                 format!("must be in 1..={} (got {})", b.n_bodies, f.zone_start + 1),
             ));
         }
         if f.zone_bodies > b.n_bodies {
             return Err(param_error(
-                "friction.zoneBodies",
+                Param::FrictionZoneBodies,
                 format!("must be in 0..={} (got {})", b.n_bodies, f.zone_bodies),
             ));
         }
-        non_negative("gravity", self.gravity)?;
+        non_negative(Param::Gravity, self.gravity)?;
         if self.probe_body != PROBE_AUTO && self.probe_body >= b.n_bodies {
             return Err(param_error(
-                "probe.body",
+                Param::ProbeBody,
                 format!(
                     "must be in 1..={} or 0 (chosen automatically; got {})",
                     b.n_bodies,
@@ -506,87 +507,100 @@ impl DriveParams {
         let s = &self.solver;
         check(
             s.rel_tol.is_finite() && s.rel_tol > 0.0 && s.rel_tol < 1.0,
-            "solver.relTol",
+            Param::SolverRelTol,
             "in (0, 1)",
             s.rel_tol,
         )?;
-        positive("solver.absTol", s.abs_tol)?;
-        positive("solver.initialStep", s.initial_step)?;
+        positive(Param::SolverAbsTol, s.abs_tol)?;
+        positive(Param::SolverInitialStep, s.initial_step)?;
         if s.max_steps == 0 {
-            return Err(param_error("solver.maxSteps", "must be >= 1 (got 0)"));
+            return Err(param_error(Param::SolverMaxSteps, "must be >= 1 (got 0)"));
         }
         for (j, p) in self.pulleys.iter().enumerate() {
-            let n = |field: &str| format!("pulley[{}].{field}", j + 1);
             // Coordinates far beyond any drive make the layout's path
             // lengths overflow; refuse them by name.
             let near = |v: f64| v.is_finite() && v.abs() <= MAX_COORDINATE;
             let within = format!("finite and within +-{MAX_COORDINATE} m");
-            check(near(p.x), &n("x"), &within, p.x)?;
-            check(near(p.y), &n("y"), &within, p.y)?;
-            positive(&n("radius"), p.radius)?;
-            positive(&n("inertia"), p.inertia)?;
-            non_negative(&n("muStatic"), p.mu_static)?;
-            non_negative(&n("muKinetic"), p.mu_kinetic)?;
+            check(near(p.x), Param::PulleyX(j), within.as_str(), p.x)?;
+            check(near(p.y), Param::PulleyY(j), within.as_str(), p.y)?;
+            positive(Param::PulleyRadius(j), p.radius)?;
+            positive(Param::PulleyInertia(j), p.inertia)?;
+            non_negative(Param::PulleyMuStatic(j), p.mu_static)?;
+            non_negative(Param::PulleyMuKinetic(j), p.mu_kinetic)?;
             check(
                 p.mu_kinetic <= p.mu_static,
-                &n("muKinetic"),
-                &format!("<= pulley[{}].muStatic = {}", j + 1, p.mu_static),
+                Param::PulleyMuKinetic(j),
+                msg![
+                    "<= ",
+                    Param::PulleyMuStatic(j),
+                    format!(" = {}", p.mu_static)
+                ],
                 p.mu_kinetic,
             )?;
-            non_negative(&n("loadDamping"), p.load_damping)?;
-            finite(&n("torqueRamp"), p.torque_ramp)?;
-            finite(&n("omegaRamp"), p.omega_ramp)?;
-            positive(&n("rampTime"), p.ramp_time)?;
+            non_negative(Param::PulleyLoadDamping(j), p.load_damping)?;
+            finite(Param::PulleyTorqueRamp(j), p.torque_ramp)?;
+            finite(Param::PulleyOmegaRamp(j), p.omega_ramp)?;
+            positive(Param::PulleyRampTime(j), p.ramp_time)?;
             let g = p.groove_angle;
             check(
                 g == 0.0 || (MIN_GROOVE_ANGLE..std::f64::consts::PI).contains(&g),
-                &n("grooveAngle"),
-                &format!(
+                Param::PulleyGrooveAngle(j),
+                format!(
                     "0 (flat) or in [{MIN_GROOVE_ANGLE:.4}, pi) rad, i.e. 10..180 deg \
                      (V-ribbed belts: 40 deg = 0.6981 rad)"
                 ),
                 g,
             )?;
             if p.decoupler {
-                positive(&n("decoupler.stiffness"), p.decoupler_stiffness)?;
+                positive(Param::PulleyDecouplerStiffness(j), p.decoupler_stiffness)?;
                 check(
                     p.decoupler_damping.is_finite() && p.decoupler_damping > 0.0,
-                    &n("decoupler.damping"),
-                    "finite and > 0 when pulley[j].decoupler is set (the spring \
-                     relaxes through it while the clutch overruns; e.g. 0.02 N m s/rad)",
+                    Param::PulleyDecouplerDamping(j),
+                    msg![
+                        "finite and > 0 when ",
+                        Param::PulleyDecoupler(j),
+                        " is set (the spring relaxes through it while the clutch overruns; \
+                         e.g. 0.02 N m s/rad)"
+                    ],
                     p.decoupler_damping,
                 )?;
-                positive(&n("rotor.inertia"), p.rotor_inertia)?;
+                positive(Param::PulleyRotorInertia(j), p.rotor_inertia)?;
             }
             if p.tensioner {
                 check(
                     near(p.arm_pivot[0]),
-                    &n("arm.pivot.x"),
-                    &within,
+                    Param::PulleyArmPivotX(j),
+                    within.as_str(),
                     p.arm_pivot[0],
                 )?;
                 check(
                     near(p.arm_pivot[1]),
-                    &n("arm.pivot.y"),
-                    &within,
+                    Param::PulleyArmPivotY(j),
+                    within.as_str(),
                     p.arm_pivot[1],
                 )?;
                 let arm = (p.x - p.arm_pivot[0]).hypot(p.y - p.arm_pivot[1]);
                 if arm < MIN_ARM_LENGTH {
                     return Err(param_error(
-                        n("arm.pivot.x"),
-                        format!(
-                            "must lie at least {MIN_ARM_LENGTH} m from the pulley centre \
-                             (pulley[{0}].x, pulley[{0}].y), which sets the arm length \
-                             (got an arm of {arm:e} m; automotive tensioner arms are 0.05-0.1 m)",
-                            j + 1
-                        ),
+                        Param::PulleyArmPivotX(j),
+                        msg![
+                            format!(
+                                "must lie at least {MIN_ARM_LENGTH} m from the pulley centre ("
+                            ),
+                            Param::PulleyX(j),
+                            ", ",
+                            Param::PulleyY(j),
+                            format!(
+                                "), which sets the arm length (got an arm of {arm:e} m; \
+                                 automotive tensioner arms are 0.05-0.1 m)"
+                            ),
+                        ],
                     ));
                 }
-                positive(&n("arm.inertia"), p.arm_inertia)?;
-                positive(&n("arm.stiffness"), p.arm_stiffness)?;
-                non_negative(&n("arm.damping"), p.arm_damping)?;
-                non_negative(&n("arm.friction"), p.arm_friction)?;
+                positive(Param::PulleyArmInertia(j), p.arm_inertia)?;
+                positive(Param::PulleyArmStiffness(j), p.arm_stiffness)?;
+                non_negative(Param::PulleyArmDamping(j), p.arm_damping)?;
+                non_negative(Param::PulleyArmFriction(j), p.arm_friction)?;
             }
         }
         Ok(())

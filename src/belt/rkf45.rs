@@ -7,6 +7,7 @@
 //! integration lands exactly on the target time. All work vectors are
 //! allocated once.
 
+use super::simd::{self, Isa};
 use super::solver_params::TUNING;
 use super::stepping::{EmbeddedMethod, StepControl};
 pub use super::stepping::{OdeSystem, Stats, StepFailure};
@@ -64,9 +65,9 @@ impl Rkf45 {
     }
 
     /// One trial step of size h from (t, y): writes the 5th-order solution
-    /// to `self.tmp` and returns the weighted RMS error norm. Runs an AVX2
-    /// build of the same loops where the CPU has it (same operations, no
-    /// FMA: the same results to the last bit; the stage combinations cost
+    /// to `self.tmp` and returns the weighted RMS error norm. The stage
+    /// combinations run in an AVX2 build where the CPU has it (same
+    /// operations, no FMA: the same results to the last bit; they cost
     /// about as much as the belt's right-hand side).
     fn trial<S: OdeSystem>(
         &mut self,
@@ -76,30 +77,14 @@ impl Rkf45 {
         y: &[f64],
         h: f64,
     ) -> f64 {
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU has AVX2 (checked above).
-            return unsafe { self.trial_avx2(sys, ws, t, y, h) };
-        }
-        self.trial_impl(sys, ws, t, y, h)
+        self.trial_with(Isa::detected().min(Isa::Avx2), sys, ws, t, y, h)
     }
 
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    unsafe fn trial_avx2<S: OdeSystem>(
+    /// [`Self::trial`] with the vector loops built for `isa`. Each loop is
+    /// its own kernel between the evaluations of the right-hand side.
+    fn trial_with<S: OdeSystem>(
         &mut self,
-        sys: &S,
-        ws: &mut S::Workspace,
-        t: f64,
-        y: &[f64],
-        h: f64,
-    ) -> f64 {
-        self.trial_impl(sys, ws, t, y, h)
-    }
-
-    #[inline(always)]
-    fn trial_impl<S: OdeSystem>(
-        &mut self,
+        isa: Isa,
         sys: &S,
         ws: &mut S::Workspace,
         t: f64,
@@ -109,47 +94,96 @@ impl Rkf45 {
         let [k1, k2, k3, k4, k5, k6] = &mut self.k;
         let tmp = &mut self.tmp;
         sys.rhs(ws, t, y, k1);
-        for i in 0..y.len() {
-            tmp[i] = y[i] + h * A2[0] * k1[i];
-        }
+        simd::dispatch_with(
+            isa,
+            (&mut tmp[..], &k1[..]),
+            #[inline(always)]
+            move |(tmp, k1)| {
+                for i in 0..y.len() {
+                    tmp[i] = y[i] + h * A2[0] * k1[i];
+                }
+            },
+        );
         sys.rhs(ws, t + C[1] * h, tmp, k2);
-        for i in 0..y.len() {
-            tmp[i] = y[i] + h * (A3[0] * k1[i] + A3[1] * k2[i]);
-        }
+        simd::dispatch_with(
+            isa,
+            (&mut tmp[..], &k1[..], &k2[..]),
+            #[inline(always)]
+            move |(tmp, k1, k2)| {
+                for i in 0..y.len() {
+                    tmp[i] = y[i] + h * (A3[0] * k1[i] + A3[1] * k2[i]);
+                }
+            },
+        );
         sys.rhs(ws, t + C[2] * h, tmp, k3);
-        for i in 0..y.len() {
-            tmp[i] = y[i] + h * (A4[0] * k1[i] + A4[1] * k2[i] + A4[2] * k3[i]);
-        }
+        simd::dispatch_with(
+            isa,
+            (&mut tmp[..], &k1[..], &k2[..], &k3[..]),
+            #[inline(always)]
+            move |(tmp, k1, k2, k3)| {
+                for i in 0..y.len() {
+                    tmp[i] = y[i] + h * (A4[0] * k1[i] + A4[1] * k2[i] + A4[2] * k3[i]);
+                }
+            },
+        );
         sys.rhs(ws, t + C[3] * h, tmp, k4);
-        for i in 0..y.len() {
-            tmp[i] = y[i] + h * (A5[0] * k1[i] + A5[1] * k2[i] + A5[2] * k3[i] + A5[3] * k4[i]);
-        }
+        simd::dispatch_with(
+            isa,
+            (&mut tmp[..], &k1[..], &k2[..], &k3[..], &k4[..]),
+            #[inline(always)]
+            move |(tmp, k1, k2, k3, k4)| {
+                for i in 0..y.len() {
+                    tmp[i] =
+                        y[i] + h * (A5[0] * k1[i] + A5[1] * k2[i] + A5[2] * k3[i] + A5[3] * k4[i]);
+                }
+            },
+        );
         sys.rhs(ws, t + C[4] * h, tmp, k5);
-        for i in 0..y.len() {
-            tmp[i] = y[i]
-                + h * (A6[0] * k1[i]
-                    + A6[1] * k2[i]
-                    + A6[2] * k3[i]
-                    + A6[3] * k4[i]
-                    + A6[4] * k5[i]);
-        }
+        simd::dispatch_with(
+            isa,
+            (&mut tmp[..], &k1[..], &k2[..], &k3[..], &k4[..], &k5[..]),
+            #[inline(always)]
+            move |(tmp, k1, k2, k3, k4, k5)| {
+                for i in 0..y.len() {
+                    tmp[i] = y[i]
+                        + h * (A6[0] * k1[i]
+                            + A6[1] * k2[i]
+                            + A6[2] * k3[i]
+                            + A6[3] * k4[i]
+                            + A6[4] * k5[i]);
+                }
+            },
+        );
         sys.rhs(ws, t + C[5] * h, tmp, k6);
         self.control.stats.rhs_evals += 6;
-        let mut sum = 0.0;
-        for i in 0..y.len() {
-            let y5 = y[i]
-                + h * (B5[0] * k1[i]
-                    + B5[2] * k3[i]
-                    + B5[3] * k4[i]
-                    + B5[4] * k5[i]
-                    + B5[5] * k6[i]);
-            let err =
-                h * (E[0] * k1[i] + E[2] * k3[i] + E[3] * k4[i] + E[4] * k5[i] + E[5] * k6[i]);
-            let w = self.abs_tol + self.rel_tol * y[i].abs().max(y5.abs());
-            let e = err / w;
-            sum += e * e;
-            tmp[i] = y5;
-        }
+        let (abs_tol, rel_tol) = (self.abs_tol, self.rel_tol);
+        let sum = simd::dispatch_with(
+            isa,
+            (&mut tmp[..], &k1[..], &k3[..], &k4[..], &k5[..], &k6[..]),
+            #[inline(always)]
+            move |(tmp, k1, k3, k4, k5, k6)| {
+                let mut sum = 0.0;
+                for i in 0..y.len() {
+                    let y5 = y[i]
+                        + h * (B5[0] * k1[i]
+                            + B5[2] * k3[i]
+                            + B5[3] * k4[i]
+                            + B5[4] * k5[i]
+                            + B5[5] * k6[i]);
+                    let err = h
+                        * (E[0] * k1[i]
+                            + E[2] * k3[i]
+                            + E[3] * k4[i]
+                            + E[4] * k5[i]
+                            + E[5] * k6[i]);
+                    let w = abs_tol + rel_tol * y[i].abs().max(y5.abs());
+                    let e = err / w;
+                    sum += e * e;
+                    tmp[i] = y5;
+                }
+                sum
+            },
+        );
         (sum / y.len() as f64).sqrt()
     }
 
@@ -269,7 +303,7 @@ mod tests {
                 .collect();
             let (t, h) = (0.1 * k as f64, 0.013 * (k + 1) as f64);
             let ea = a.trial(&Ring, &mut (), t, &y, h);
-            let eb = b.trial_impl(&Ring, &mut (), t, &y, h);
+            let eb = b.trial_with(Isa::Baseline, &Ring, &mut (), t, &y, h);
             assert_eq!(ea.to_bits(), eb.to_bits());
             for (x, z) in a.tmp.iter().zip(&b.tmp) {
                 assert_eq!(x.to_bits(), z.to_bits());

@@ -16,6 +16,7 @@
 //! m = b Gamma^-1; the coefficients are transformed once, at compile time of
 //! the tableau below.
 
+use super::simd::{self, Isa};
 use super::solver_params::TUNING;
 use super::stepping::{EmbeddedMethod, OdeSystem, StepControl, StepFailure};
 
@@ -264,32 +265,23 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
 
     /// One trial step of size h from (t, y): the new state goes to
     /// `self.stage`; returns the weighted RMS error norm (infinite if the
-    /// iteration matrix is singular). Runs an AVX2 build of the same loops
+    /// iteration matrix is singular). The vector loops run in an AVX2 build
     /// where the CPU has it (no FMA: the same results to the last bit).
     fn trial(&mut self, sys: &Sys, ws: &mut Sys::Workspace, t: f64, y: &[f64], h: f64) -> f64 {
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU has AVX2 (checked above).
-            return unsafe { self.trial_avx2(sys, ws, t, y, h) };
-        }
-        self.trial_impl(sys, ws, t, y, h)
+        self.trial_with(Isa::detected().min(Isa::Avx2), sys, ws, t, y, h)
     }
 
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    unsafe fn trial_avx2(
+    /// [`Self::trial`] with its own vector loops built for `isa`, each its
+    /// own kernel between the system's (which dispatch themselves).
+    fn trial_with(
         &mut self,
+        isa: Isa,
         sys: &Sys,
         ws: &mut Sys::Workspace,
         t: f64,
         y: &[f64],
         h: f64,
     ) -> f64 {
-        self.trial_impl(sys, ws, t, y, h)
-    }
-
-    #[inline(always)]
-    fn trial_impl(&mut self, sys: &Sys, ws: &mut Sys::Workspace, t: f64, y: &[f64], h: f64) -> f64 {
         if self.jac_age.is_none() {
             sys.jacobian(t, y, &mut self.jac);
             self.jacobians += 1;
@@ -307,44 +299,65 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
         }
         for i in 0..S {
             // stage state y + sum a_ij U_j
-            let stage = &mut self.stage;
-            stage.copy_from_slice(y);
-            for j in 0..i {
-                axpy(T.a[i][j], &self.u[j], stage);
-            }
-            sys.rhs(ws, t + T.alpha[i] * h, stage, &mut self.f);
+            simd::dispatch_with(
+                isa,
+                (&mut self.stage[..], &self.u),
+                #[inline(always)]
+                move |(stage, u)| {
+                    stage.copy_from_slice(y);
+                    for (j, uj) in u.iter().enumerate().take(i) {
+                        axpy(T.a[i][j], uj, stage);
+                    }
+                },
+            );
+            sys.rhs(ws, t + T.alpha[i] * h, &self.stage, &mut self.f);
             self.control.stats.rhs_evals += 1;
             // right-hand side of (I - c J) U_i = c (f + sum c_ij/h U_j)
             let (done, rest) = self.u.split_at_mut(i);
             let ui = &mut rest[0];
-            for (u, f) in ui.iter_mut().zip(&self.f) {
-                *u = c * f;
-            }
-            for (j, uj) in done.iter().enumerate() {
-                axpy(c * T.c[i][j] / h, uj, ui);
-            }
+            simd::dispatch_with(
+                isa,
+                (&mut ui[..], &self.f[..], &*done),
+                #[inline(always)]
+                move |(ui, f, done)| {
+                    for (u, f) in ui.iter_mut().zip(f) {
+                        *u = c * f;
+                    }
+                    for (j, uj) in done.iter().enumerate() {
+                        axpy(c * T.c[i][j] / h, uj, ui);
+                    }
+                },
+            );
             sys.solve(&self.jac, &mut self.mat, ui);
         }
         // y1 = y + sum m_i U_i, error sum e_i U_i (stage increments s0..s3),
         // weighted RMS norm
         let [u0, u1, u2, u3] = &self.u;
-        let mut sum = 0.0;
-        for (((((y1, &y0), &m), s0), s1), (s2, s3)) in self
-            .stage
-            .iter_mut()
-            .zip(y)
-            .zip(&self.mask)
-            .zip(u0)
-            .zip(u1)
-            .zip(u2.iter().zip(u3))
-        {
-            let new = y0 + (T.m[0] * s0 + T.m[1] * s1 + T.m[2] * s2 + T.m[3] * s3);
-            let err = T.e[0] * s0 + T.e[1] * s1 + T.e[2] * s2 + T.e[3] * s3;
-            let w = self.abs_tol + self.rel_tol * y0.abs().max(new.abs());
-            let e = m * err / w;
-            sum += e * e;
-            *y1 = new;
-        }
+        let (abs_tol, rel_tol) = (self.abs_tol, self.rel_tol);
+        let sum = simd::dispatch_with(
+            isa,
+            (&mut self.stage[..], &self.mask[..], u0, u1, u2, u3),
+            #[inline(always)]
+            move |(stage, mask, u0, u1, u2, u3)| {
+                let mut sum = 0.0;
+                for (((((y1, &y0), &m), s0), s1), (s2, s3)) in stage
+                    .iter_mut()
+                    .zip(y)
+                    .zip(mask)
+                    .zip(u0)
+                    .zip(u1)
+                    .zip(u2.iter().zip(u3))
+                {
+                    let new = y0 + (T.m[0] * s0 + T.m[1] * s1 + T.m[2] * s2 + T.m[3] * s3);
+                    let err = T.e[0] * s0 + T.e[1] * s1 + T.e[2] * s2 + T.e[3] * s3;
+                    let w = abs_tol + rel_tol * y0.abs().max(new.abs());
+                    let e = m * err / w;
+                    sum += e * e;
+                    *y1 = new;
+                }
+                sum
+            },
+        );
         (sum / self.controlled as f64).sqrt()
     }
 
@@ -588,9 +601,8 @@ mod tests {
     /// The AVX2 build of a trial step gives the baseline's state and error
     /// norm to the last bit (no FMA).
     #[test]
-    #[cfg(target_arch = "x86_64")]
     fn avx2_build_matches_baseline_to_the_bit() {
-        if !std::arch::is_x86_feature_detected!("avx2") {
+        if !Isa::Avx2.available() {
             return;
         }
         let f = |t: f64, y: &[f64], dy: &mut [f64]| {
@@ -607,9 +619,8 @@ mod tests {
         let y: Vec<f64> = (0..11).map(|k| (k as f64 * 0.37).cos()).collect();
         let mut base = Rosenbrock::new(&sys, 1e-6, 1e-8, 1e-3, 100);
         let mut wide = base.clone();
-        let e_base = base.trial_impl(&sys, &mut (), 0.1, &y, 0.05);
-        // SAFETY: the CPU has AVX2 (checked above).
-        let e_wide = unsafe { wide.trial_avx2(&sys, &mut (), 0.1, &y, 0.05) };
+        let e_base = base.trial_with(Isa::Baseline, &sys, &mut (), 0.1, &y, 0.05);
+        let e_wide = wide.trial_with(Isa::Avx2, &sys, &mut (), 0.1, &y, 0.05);
         assert!(e_base > 0.0 && e_base.is_finite());
         assert_eq!(e_base.to_bits(), e_wide.to_bits());
         let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();

@@ -37,12 +37,23 @@ pub enum StepFailure {
     NonFinite { t: f64 },
 }
 
+impl StepFailure {
+    /// The parameter that bounds what failed, if one does (the step-count
+    /// guard).
+    pub fn parameter(&self) -> Option<crate::belt::param_id::Param> {
+        match self {
+            Self::TooManySteps { .. } => Some(crate::belt::param_id::Param::SolverMaxSteps),
+            _ => None,
+        }
+    }
+}
+
 impl std::fmt::Display for StepFailure {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             Self::TooManySteps { t, steps } => write!(
                 f,
-                "integrator step-count guard hit at t = {t} s after {steps} steps (solver.maxSteps)"
+                "integrator step-count guard hit at t = {t} s after {steps} steps"
             ),
             Self::StepTooSmall { t, h } => {
                 write!(f, "integrator step size fell to {h:e} s at t = {t} s")

@@ -9,11 +9,12 @@
 //!   from the table;
 //! * `snapshot`: the model's part of a serialized FMU state.
 
+pub mod names;
 mod snapshot;
 pub mod variables;
 
 use crate::belt::drive::Outputs;
-use crate::belt::params::{FrictionLaw, Method, PulleyParams, MAX_PULLEYS, PROBE_AUTO};
+use crate::belt::params::{PulleyParams, MAX_PULLEYS, PROBE_AUTO};
 use crate::belt::{Drive, DriveParams, Inputs};
 use crate::fmi::{FmuModel, ModelDescription, StepError};
 use variables::{Start, Var, VarInfo, VarType, MODEL_DESCRIPTION, VARIABLES};
@@ -133,7 +134,7 @@ impl BeltDrive {
         }
         p.pulleys.truncate(i.n_pulleys as usize);
         p.belt.n_bodies = i.n_bodies as usize;
-        p.friction.law = FrictionLaw::from_code(i.friction_law).ok_or_else(|| {
+        p.friction.law = names::friction_law(i.friction_law).ok_or_else(|| {
             range_error("friction.law", "1 (kubas2014) or 2 (creep)", i.friction_law)
         })?;
         p.friction.zone_start = (i.zone_start - 1) as usize;
@@ -149,7 +150,7 @@ impl BeltDrive {
             0 => PROBE_AUTO,
             b => (b - 1) as usize,
         };
-        p.solver.method = Method::from_code(i.method).ok_or_else(|| {
+        p.solver.method = names::method(i.method).ok_or_else(|| {
             range_error(
                 "solver.method",
                 "1 (RKF45) or 2 (Rosenbrock-W, stiff)",
@@ -163,7 +164,8 @@ impl BeltDrive {
     fn ensure_drive(&mut self) -> Result<&mut Drive, String> {
         if self.drive.is_none() {
             let params = self.drive_params()?;
-            let mut drive = Drive::new(&params, self.start_time).map_err(|e| e.to_string())?;
+            let mut drive =
+                Drive::new(&params, self.start_time).map_err(|e| names::render_error(&e))?;
             drive.set_inputs(self.inputs);
             self.drive = Some(drive);
             self.outputs = None;
@@ -383,7 +385,8 @@ impl FmuModel for BeltDrive {
     }
 
     fn initialize(&mut self) -> Result<Vec<String>, String> {
-        self.ensure_drive().map(|d| d.warnings().to_vec())
+        self.ensure_drive()
+            .map(|d| d.warnings().iter().map(names::render).collect())
     }
 
     fn notes(&self) -> Vec<String> {
@@ -408,8 +411,9 @@ impl FmuModel for BeltDrive {
         }
         drive.advance(t + h).map_err(|e| {
             StepError::Discard(format!(
-                "step from t = {t} s to {} s not completed: {e}; the state stays at t = {t} s",
-                t + h
+                "step from t = {t} s to {} s not completed: {}; the state stays at t = {t} s",
+                t + h,
+                names::render_step_failure(&e)
             ))
         })?;
         // Input derivatives hold for one communication step: the inputs end

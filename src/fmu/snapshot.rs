@@ -155,7 +155,8 @@ pub fn read(bytes: &[u8]) -> Result<BeltDrive, String> {
                 last_step: r.f64()?,
             };
             let params = m.drive_params()?;
-            let mut drive = Drive::mounted(&params, m.start_time).map_err(|e| e.to_string())?;
+            let mut drive = Drive::mounted(&params, m.start_time)
+                .map_err(|e| super::names::render_error(&e))?;
             let y = r.f64s(drive.state().len())?;
             let mut inputs = m.inputs;
             inputs.t0 = t0;

@@ -74,7 +74,7 @@ impl Linearisation {
 /// Validates the parameters, lays the belt out and settles it into static
 /// equilibrium (the mounted static state). The error names the parameter.
 pub fn build(params: &DriveParams) -> Result<Drive, String> {
-    Drive::new(params, 0.0).map_err(|e| e.to_string())
+    Drive::new(params, 0.0).map_err(|e| crate::fmu::names::render_error(&e))
 }
 
 /// Integrates the drive to time `t`, in calls of at most 1 ms (the

@@ -31,10 +31,10 @@ def unit_of(v):
     return v.unit or (v.declaredType.unit if v.declaredType is not None else None)
 
 
-def test_the_four_drives_are_there():
+def test_the_five_sets_are_there():
     assert [p.name for p in SETS] == [
-        "accessory-drive-4.ssv", "accessory-drive-decoupler.ssv", "kubas2014-section3.ssv",
-        "kubas2014-section4.ssv"]
+        "accessory-drive-4.ssv", "accessory-drive-decoupler.ssv", "accessory-drive-tensioner.ssv",
+        "kubas2014-section3.ssv", "kubas2014-section4.ssv"]
 
 
 @pytest.mark.parametrize("path", SETS, ids=lambda p: p.stem)

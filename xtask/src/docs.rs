@@ -32,12 +32,14 @@ struct Variable {
     start: String,
     /// The variable's own unit, else that of its declared type.
     unit: String,
-    declared_type: String,
 }
 
 /// What the documentation needs from the model description.
 #[derive(Default)]
 struct ModelInfo {
+    /// The model's description (the pages do not show it; the reader's
+    /// test checks it).
+    #[cfg_attr(not(test), allow(dead_code))]
     description: String,
     version: String,
     license: String,
@@ -47,98 +49,30 @@ struct ModelInfo {
     variables: Vec<Variable>,
 }
 
-fn attrs(e: &quick_xml::events::BytesStart) -> Result<Vec<(String, String)>> {
-    e.attributes()
-        .map(|a| {
-            let a = a.map_err(|e| format!("model description: {e}"))?;
-            let value = a
-                .unescape_value()
-                .map_err(|e| format!("model description: {e}"))?;
-            Ok((
-                String::from_utf8_lossy(a.key.as_ref()).into_owned(),
-                value.into_owned(),
-            ))
-        })
-        .collect()
-}
-
-fn get(attrs: &[(String, String)], key: &str) -> String {
-    attrs
-        .iter()
-        .find(|(k, _)| k == key)
-        .map(|(_, v)| v.clone())
-        .unwrap_or_default()
-}
-
-/// Read the parts of the model description the documentation shows.
+/// Read the parts of the model description the documentation shows (with
+/// the project's one reader, `model_description::parse`).
 fn parse_model_description(xml: &str) -> Result<ModelInfo> {
-    use quick_xml::events::Event;
-    let mut reader = quick_xml::Reader::from_str(xml);
-    let mut info = ModelInfo::default();
-    // SimpleType name -> unit of its type element.
-    let mut type_units: Vec<(String, String)> = Vec::new();
-    let mut simple_type: Option<String> = None;
-    let mut current: Option<Variable> = None;
-    loop {
-        let event = reader
-            .read_event()
-            .map_err(|e| format!("model description: {e}"))?;
-        let (e, empty) = match &event {
-            Event::Start(e) => (e, false),
-            Event::Empty(e) => (e, true),
-            Event::End(e) => {
-                match e.name().as_ref() {
-                    b"ScalarVariable" => info.variables.extend(current.take()),
-                    b"SimpleType" => simple_type = None,
-                    _ => {}
-                }
-                continue;
-            }
-            Event::Eof => break,
-            _ => continue,
-        };
-        let a = attrs(e)?;
-        match e.name().as_ref() {
-            b"fmiModelDescription" => {
-                info.description = get(&a, "description");
-                info.version = get(&a, "version");
-                info.license = get(&a, "license");
-                info.fmi_version = get(&a, "fmiVersion");
-            }
-            b"DefaultExperiment" => info.default_experiment = a,
-            b"SimpleType" if !empty => simple_type = Some(get(&a, "name")),
-            b"ScalarVariable" => {
-                let v = Variable {
-                    name: get(&a, "name"),
-                    causality: get(&a, "causality"),
-                    description: get(&a, "description"),
-                    ..Variable::default()
-                };
-                if empty {
-                    info.variables.push(v);
-                } else {
-                    current = Some(v);
-                }
-            }
-            tag @ (b"Real" | b"Integer" | b"Boolean" | b"String" | b"Enumeration") => {
-                if let Some(name) = &simple_type {
-                    type_units.push((name.clone(), get(&a, "unit")));
-                } else if let Some(v) = current.as_mut() {
-                    v.ty = String::from_utf8_lossy(tag).into_owned();
-                    v.start = get(&a, "start");
-                    v.unit = get(&a, "unit");
-                    v.declared_type = get(&a, "declaredType");
-                }
-            }
-            _ => {}
-        }
-    }
-    for v in &mut info.variables {
-        if v.unit.is_empty() {
-            v.unit = get(&type_units, &v.declared_type);
-        }
-    }
-    Ok(info)
+    let md = model_description::parse(xml).map_err(|e| format!("model description: {e}"))?;
+    let variables = md
+        .variables
+        .iter()
+        .map(|v| Variable {
+            name: v.name.clone(),
+            causality: v.causality.clone(),
+            description: v.description.clone(),
+            ty: v.ty.clone(),
+            start: v.start.clone().unwrap_or_default(),
+            unit: md.unit_of(v).unwrap_or_default().to_owned(),
+        })
+        .collect();
+    Ok(ModelInfo {
+        description: md.description.clone(),
+        version: md.version.clone(),
+        license: md.license.clone(),
+        fmi_version: md.fmi_version.clone(),
+        default_experiment: md.default_experiment.clone(),
+        variables,
+    })
 }
 
 /// An HTML table of the variables selected by `keep`.
@@ -402,9 +336,13 @@ pub fn documentation(xml: &str, manual: &str, docs: &Path) -> Result<Vec<(String
                 Some(variable_table(&info, |v| v.causality == "parameter", true))
             }
             "<!-- fmu:inputs -->" => Some(variable_table(&info, |v| v.causality == "input", true)),
-            "<!-- fmu:outputs -->" => {
-                Some(variable_table(&info, |v| v.causality == "output", false))
-            }
+            // outputs and the values the FMU calculates at initialization
+            // (calculated parameters, e.g. a tensioner spring's free angle)
+            "<!-- fmu:outputs -->" => Some(variable_table(
+                &info,
+                |v| v.causality == "output" || v.causality == "calculatedParameter",
+                false,
+            )),
             _ if t.starts_with("<!-- fmu:") => {
                 return Err(format!("docs/fmu-manual.md: unknown placeholder {t}"))
             }
