@@ -3,6 +3,9 @@
 //! unequal pulleys, a light and a heavy belt. Run with
 //! `cargo test --release --features modes --test modes`.
 
+#[cfg(unix)]
+mod abi;
+
 use belt_drive::belt::params::Method;
 use belt_drive::belt::{Drive, DriveParams};
 use belt_drive::modes::{adapter, analyse, Mode, Modes, Options, Part};
@@ -377,6 +380,151 @@ fn free_vibration_shows_the_predicted_frequencies() {
         "rotational: predicted {f_rot:.2} Hz, time domain {f_rot_t:.2} Hz; span 1 transverse: \
          predicted {f_span:.2} Hz, time domain {f_span_t:.2} Hz"
     );
+    assert!((f_rot_t / f_rot - 1.0).abs() < 0.05);
+    assert!((f_span_t / f_span - 1.0).abs() < 0.05);
+}
+
+/// The two-pulley drive of [`two_pulley`] in the FMU's own names (120
+/// bodies): the FMU and the analysis are given the same parameters through
+/// the same setters.
+const FMU_TWO_PULLEY: &[(&str, &str)] = &[
+    ("belt.nBodies", "120"),
+    ("probe.body", "1"),
+    ("pulley[1].radius", "0.04"),
+    ("pulley[1].torqueRamp", "0"),
+    ("pulley[1].inertia", "2e-3"),
+    ("pulley[2].radius", "0.025"),
+    ("pulley[2].x", "0.35"),
+    ("pulley[2].inertia", "5e-4"),
+    ("pulley[2].loadDamping", "0"),
+    ("belt.preload", "300"),
+    ("belt.massPerLength", "0.2"),
+    ("belt.EA", "1.5e5"),
+];
+
+/// Frequency [Hz] of the largest peak of the Hann-windowed spectrum of `x`
+/// (sampled every `dt`, mean and linear trend removed) between `lo` and `hi`,
+/// evaluated on a 0.05 Hz grid, and the peak's height over the smallest
+/// value in the band. None when the largest value lies on the band's edge
+/// (no peak inside).
+fn spectral_peak(x: &[f64], dt: f64, lo: f64, hi: f64) -> Option<(f64, f64)> {
+    let n = x.len() as f64;
+    let (mt, mx) = ((n - 1.0) / 2.0, x.iter().sum::<f64>() / n);
+    let slope = x
+        .iter()
+        .enumerate()
+        .map(|(i, v)| (i as f64 - mt) * (v - mx))
+        .sum::<f64>()
+        / x.iter()
+            .enumerate()
+            .map(|(i, _)| (i as f64 - mt).powi(2))
+            .sum::<f64>();
+    let w: Vec<f64> = x
+        .iter()
+        .enumerate()
+        .map(|(i, v)| {
+            let hann = 0.5 - 0.5 * (std::f64::consts::TAU * i as f64 / (n - 1.0)).cos();
+            (v - mx - slope * (i as f64 - mt)) * hann
+        })
+        .collect();
+    let amp = |f: f64| {
+        let (mut re, mut im) = (0.0, 0.0);
+        for (i, v) in w.iter().enumerate() {
+            let a = std::f64::consts::TAU * f * i as f64 * dt;
+            re += v * a.cos();
+            im -= v * a.sin();
+        }
+        re.hypot(im)
+    };
+    let grid: Vec<(f64, f64)> = (0..)
+        .map(|k| lo + 0.05 * k as f64)
+        .take_while(|&f| f <= hi)
+        .map(|f| (f, amp(f)))
+        .collect();
+    let (k, &(f, a)) = grid
+        .iter()
+        .enumerate()
+        .max_by(|a, b| a.1 .1.total_cmp(&b.1 .1))?;
+    let floor = grid.iter().map(|g| g.1).fold(f64::INFINITY, f64::min);
+    (k > 0 && k + 1 < grid.len()).then_some((f, a / floor))
+}
+
+/// Free vibration through the FMU (the built library via dlopen, the C ABI
+/// an importer calls): the two-pulley drive at rest, its pulleys kicked
+/// against each other by opposite torque inputs for 0.5 ms (pulley 2's
+/// torque scaled by r2 / r1 so that the belt's rigid rotation is not
+/// driven), then 0.4 s of free motion sampled every 0.1 ms. The kick rings
+/// the rotational mode in `pulley[1].omega`; the span tension it modulates
+/// moves the span's gravity sag, which rings span 1's transverse mode in
+/// `span[1].midDeflection`. Each output's spectral peak near the analysis'
+/// lowest rotational and span 1 transverse frequency (searched within
+/// +-30 %) must lie within 5 % of it (the issue's figure): the Hann-windowed
+/// spectrum of 0.4 s locates an isolated peak to a small fraction of its
+/// 2.5 Hz resolution, and the analysis is a linearisation of the very model
+/// the FMU runs. The peak must stand clear of the band's floor (x 3).
+#[cfg(unix)]
+#[test]
+fn free_vibration_through_the_fmu_shows_the_predicted_frequencies() {
+    use abi::{Fmi, Instance};
+    let sets: Vec<String> = FMU_TWO_PULLEY
+        .iter()
+        .map(|(n, v)| format!("{n}={v}"))
+        .collect();
+    let p = belt_drive::modes::params::drive_params(None, &sets).expect("parameters");
+    let (_, m) = modes_at_rest(&p);
+    let f_rot = m
+        .modes
+        .iter()
+        .find(|x| matches!(x.part, Part::PulleyRotation(_)))
+        .expect("rotational mode")
+        .frequency_hz;
+    let f_span = of(&m, Part::SpanTransverse(1))[0].frequency_hz;
+
+    let fmi = Fmi::load();
+    let integer = |n: &str| n == "belt.nBodies" || n == "probe.body";
+    let ints: Vec<(&str, i32)> = FMU_TWO_PULLEY
+        .iter()
+        .filter(|(n, _)| integer(n))
+        .map(|(n, v)| (*n, v.parse().unwrap()))
+        .collect();
+    let reals: Vec<(&str, f64)> = FMU_TWO_PULLEY
+        .iter()
+        .filter(|(n, _)| !integer(n))
+        .map(|(n, v)| (*n, v.parse().unwrap()))
+        .collect();
+    let fmu = Instance::initialized_with(&fmi, &ints, &reals);
+    let dt = 1e-4;
+    let kick = 2.0; // N m on pulley 1: 50 N at its rim, a sixth of the preload
+    assert_eq!(fmu.set_real("pulley[1].torque", kick), abi::OK);
+    assert_eq!(
+        fmu.set_real("pulley[2].torque", -kick * 0.025 / 0.04),
+        abi::OK
+    );
+    let mut t = 0.0;
+    for _ in 0..5 {
+        assert_eq!(fmu.step(t, dt), abi::OK, "{:?}", fmu.log.borrow());
+        t += dt;
+    }
+    assert_eq!(fmu.set_real("pulley[1].torque", 0.0), abi::OK);
+    assert_eq!(fmu.set_real("pulley[2].torque", 0.0), abi::OK);
+    let (mut omega, mut deflection) = (Vec::new(), Vec::new());
+    for _ in 0..4000 {
+        assert_eq!(fmu.step(t, dt), abi::OK, "{:?}", fmu.log.borrow());
+        t += dt;
+        let out = fmu.get(&["pulley[1].omega", "span[1].midDeflection"]);
+        omega.push(out[0]);
+        deflection.push(out[1]);
+    }
+    let (f_rot_t, rot_clear) =
+        spectral_peak(&omega, dt, 0.7 * f_rot, 1.3 * f_rot).expect("a rotational peak");
+    let (f_span_t, span_clear) =
+        spectral_peak(&deflection, dt, 0.7 * f_span, 1.3 * f_span).expect("a transverse peak");
+    eprintln!(
+        "through the FMU: rotational predicted {f_rot:.2} Hz, measured {f_rot_t:.2} Hz (peak x{rot_clear:.0} \
+         over the band's floor); span 1 transverse predicted {f_span:.2} Hz, measured {f_span_t:.2} Hz \
+         (x{span_clear:.0})"
+    );
+    assert!(rot_clear > 3.0 && span_clear > 3.0);
     assert!((f_rot_t / f_rot - 1.0).abs() < 0.05);
     assert!((f_span_t / f_span - 1.0).abs() < 0.05);
 }

@@ -153,11 +153,13 @@ impl Integrator {
     }
 
     /// Integrator data beyond step size and counters that a saved state
-    /// must carry (the stiff method's kept Jacobian); empty for RKF45.
+    /// must carry (the stiff method's kept Jacobian, RKF45's step-size
+    /// controller memory).
     fn save(&self, sys: &BeltSystem) -> Vec<f64> {
         let mut out = Vec::new();
-        if let Self::Rosenbrock(i) = self {
-            i.save(sys, &mut out);
+        match self {
+            Self::Rkf45(i) => i.save(&mut out),
+            Self::Rosenbrock(i) => i.save(sys, &mut out),
         }
         out
     }
@@ -168,7 +170,7 @@ impl Integrator {
         c.h = h;
         c.stats = stats;
         match self {
-            Self::Rkf45(_) => extra.is_empty(),
+            Self::Rkf45(i) => i.load(extra),
             Self::Rosenbrock(i) => i.load(sys, extra),
         }
     }

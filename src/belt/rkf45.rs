@@ -6,6 +6,16 @@
 //! survives between calls; the last step of a call is clipped so the
 //! integration lands exactly on the target time. All work vectors are
 //! allocated once.
+//!
+//! Step-size control: a PI controller (Gustafsson 1991; Hairer & Wanner,
+//! Solving ODEs II, IV.2, eq. 2.43c), h_new = h * (target / err_n)^beta1 *
+//! (err_{n-1} / target)^beta2 over accepted steps, and the elementary
+//! controller safety * err^(-1/5) (never growing) after a rejection. On the belt drives
+//! the step is held by the stability limit of the bodies' fast modes, where
+//! the elementary controller alone oscillates about that limit and rejects
+//! every few steps; the knobs and the measured effect are in
+//! [`SolverTuning`](super::solver_params::SolverTuning) and
+//! docs/benchmarks.md.
 
 use super::simd::{self, Isa};
 use super::solver_params::TUNING;
@@ -51,7 +61,49 @@ pub struct Rkf45 {
     pub control: StepControl,
     k: [Vec<f64>; 6],
     tmp: Vec<f64>,
+    /// Scaled error of the last trial step.
+    err_trial: f64,
+    /// Scaled error of the last accepted step (the PI controller's memory;
+    /// carried across calls like the step size, saved with the state).
+    err_accepted: f64,
+    /// The last trial was rejected: the next accepted step may not grow h.
+    after_rejection: bool,
+    /// `err_accepted` at the start of the current call (restored on failure).
+    err_at_call: f64,
+    /// The PI controller's exponents and target error
+    /// ([`TUNING`](super::solver_params::TUNING)'s `rkf45_*`).
+    pub pi: PiControl,
 }
+
+/// Exponents and target of the PI step-size controller, see
+/// [`SolverTuning::rkf45_beta1`](super::solver_params::SolverTuning::rkf45_beta1).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PiControl {
+    pub beta1: f64,
+    pub beta2: f64,
+    pub target_error: f64,
+}
+
+impl PiControl {
+    /// The values in use.
+    pub const DEFAULT: Self = Self {
+        beta1: TUNING.rkf45_beta1,
+        beta2: TUNING.rkf45_beta2,
+        target_error: TUNING.rkf45_target_error,
+    };
+    /// The elementary controller 0.9 err^(-1/5) (for comparisons).
+    pub fn elementary() -> Self {
+        Self {
+            beta1: 0.2,
+            beta2: 0.0,
+            target_error: TUNING.rkf45_safety.powi(5),
+        }
+    }
+}
+
+/// Floor on the remembered error: an exact step (err = 0) must not make the
+/// PI term blow up.
+const ERR_FLOOR: f64 = 1e-4;
 
 impl Rkf45 {
     pub fn new(dim: usize, rel_tol: f64, abs_tol: f64, h0: f64, max_steps: u64) -> Self {
@@ -61,6 +113,29 @@ impl Rkf45 {
             control: StepControl::new(dim, h0, max_steps),
             k: std::array::from_fn(|_| vec![0.0; dim]),
             tmp: vec![0.0; dim],
+            err_trial: 1.0,
+            err_accepted: 1.0,
+            after_rejection: false,
+            err_at_call: 1.0,
+            pi: PiControl::DEFAULT,
+        }
+    }
+
+    /// What a saved state must carry beyond step size and counters: the PI
+    /// controller's error memory.
+    pub fn save(&self, out: &mut Vec<f64>) {
+        out.push(self.err_accepted);
+    }
+
+    /// Reads what [`save`](Self::save) wrote; false if it does not fit.
+    pub fn load(&mut self, src: &[f64]) -> bool {
+        match src {
+            [e] if e.is_finite() && *e >= ERR_FLOOR && *e <= 1.0 => {
+                self.err_accepted = *e;
+                self.after_rejection = false;
+                true
+            }
+            _ => false,
         }
     }
 
@@ -77,7 +152,8 @@ impl Rkf45 {
         y: &[f64],
         h: f64,
     ) -> f64 {
-        self.trial_with(Isa::detected().min(Isa::Avx2), sys, ws, t, y, h)
+        self.err_trial = self.trial_with(Isa::detected().min(Isa::Avx2), sys, ws, t, y, h);
+        self.err_trial
     }
 
     /// [`Self::trial`] with the vector loops built for `isa`. Each loop is
@@ -197,6 +273,7 @@ impl Rkf45 {
         y: &mut [f64],
         t_end: f64,
     ) -> Result<(), StepFailure> {
+        self.err_at_call = self.err_accepted;
         super::stepping::advance(self, sys, ws, t, y, t_end)
     }
 }
@@ -214,14 +291,45 @@ impl<S: OdeSystem> EmbeddedMethod<S> for Rkf45 {
         y.copy_from_slice(&self.tmp);
     }
 
-    /// Error of order 5 (h^5): safety 0.9, growth limited to [0.2, 5].
+    /// Error of order 5 (h^5). Accepted: the PI factor (target /
+    /// err)^beta1 times (err_prev / target)^beta2, limited to [min, max],
+    /// and to 1 right after a rejection. Rejected: the elementary safety * err^(-1/5),
+    /// limited to [min, 1].
     fn step_factor(&self, err: f64) -> f64 {
         let t = &TUNING;
-        if err == 0.0 {
-            t.rkf45_factor_max
+        if err > 1.0 {
+            (t.rkf45_safety * err.powf(-0.2)).clamp(t.rkf45_factor_min, 1.0)
         } else {
-            (t.rkf45_safety * err.powf(-0.2)).clamp(t.rkf45_factor_min, t.rkf45_factor_max)
+            let err = err.max(ERR_FLOOR);
+            let PiControl {
+                beta1,
+                beta2,
+                target_error,
+            } = self.pi;
+            let pi =
+                (target_error / err).powf(beta1) * (self.err_accepted / target_error).powf(beta2);
+            let max = if self.after_rejection {
+                1.0
+            } else {
+                t.rkf45_factor_max
+            };
+            pi.clamp(t.rkf45_factor_min, max)
         }
+    }
+
+    fn accepted(&mut self, factor: f64) -> f64 {
+        self.err_accepted = self.err_trial.max(ERR_FLOOR);
+        self.after_rejection = false;
+        factor
+    }
+
+    fn rejected(&mut self) {
+        self.after_rejection = true;
+    }
+
+    fn failed(&mut self) {
+        self.err_accepted = self.err_at_call;
+        self.after_rejection = false;
     }
 }
 
@@ -309,6 +417,81 @@ mod tests {
                 assert_eq!(x.to_bits(), z.to_bits());
             }
         }
+    }
+
+    /// The regime of the belt's fast body modes: a stiff decay (lambda =
+    /// -1e4) and a lightly damped fast oscillator (omega = 1e4 rad/s, damping
+    /// ratio 0.05), both driven by a slow cos t. At relTol 1e-4 the step is
+    /// held by RKF45's stability limit, not by the accuracy of the slow
+    /// solution.
+    struct StabilityBound;
+    impl OdeSystem for StabilityBound {
+        type Workspace = ();
+        fn dim(&self) -> usize {
+            3
+        }
+        fn workspace(&self) {}
+        fn rhs(&self, _: &mut (), t: f64, y: &[f64], dy: &mut [f64]) {
+            dy[0] = -1e4 * (y[0] - t.cos()) - t.sin();
+            let w = 1e4;
+            dy[1] = y[2];
+            dy[2] = -w * w * (y[1] - t.cos()) - 2.0 * 0.05 * w * y[2];
+        }
+    }
+
+    fn stability_bound_run(pi: PiControl) -> (Stats, [f64; 3]) {
+        let mut rk = Rkf45::new(3, 1e-4, 1e-6, 1e-6, 10_000_000);
+        rk.pi = pi;
+        let mut y = [1.0, 1.0, 0.0];
+        let mut t = 0.0;
+        rk.advance(&StabilityBound, &mut (), &mut t, &mut y, 2.0)
+            .unwrap();
+        (rk.control.stats, y)
+    }
+
+    /// Against the elementary controller on the same problem, the PI
+    /// controller must reject at most 2/3 as often per accepted step
+    /// (measured: 0.17 against 0.29) for no more right-hand-side evaluations
+    /// (measured: 9 % fewer), with the slow solution within the tolerance.
+    #[test]
+    fn step_control_settles_at_the_stability_limit() {
+        let (pi, y) = stability_bound_run(PiControl::DEFAULT);
+        let (el, _) = stability_bound_run(PiControl::elementary());
+        let rate = |s: &Stats| s.rejected as f64 / s.steps as f64;
+        assert!(
+            rate(&pi) < 2.0 / 3.0 * rate(&el),
+            "PI: {} rejected / {} accepted; elementary: {} / {}",
+            pi.rejected,
+            pi.steps,
+            el.rejected,
+            el.steps
+        );
+        assert!(pi.rhs_evals <= el.rhs_evals, "{pi:?} {el:?}");
+        for x in &y[..2] {
+            assert!((x - 2f64.cos()).abs() < 1e-4, "{y:?}");
+        }
+    }
+
+    /// The controller's memory is part of a saved state: a run restored
+    /// from a snapshot continues with the same steps as the original.
+    #[test]
+    fn saved_controller_memory_reproduces_the_run() {
+        let mut a = Rkf45::new(3, 1e-4, 1e-6, 1e-6, 10_000_000);
+        let (mut ya, mut ta) = ([1.0, 1.0, 0.0], 0.0);
+        a.advance(&StabilityBound, &mut (), &mut ta, &mut ya, 0.5)
+            .unwrap();
+        let mut memory = Vec::new();
+        a.save(&mut memory);
+        let mut b = Rkf45::new(3, 1e-4, 1e-6, 1e-6, 10_000_000);
+        assert!(b.load(&memory));
+        b.control.h = a.control.h;
+        let (mut yb, mut tb) = (ya, ta);
+        a.advance(&StabilityBound, &mut (), &mut ta, &mut ya, 1.0)
+            .unwrap();
+        b.advance(&StabilityBound, &mut (), &mut tb, &mut yb, 1.0)
+            .unwrap();
+        assert_eq!(ya[0].to_bits(), yb[0].to_bits());
+        assert!(!b.load(&[]) && !b.load(&[f64::NAN]) && !b.load(&[2.0]));
     }
 
     #[test]

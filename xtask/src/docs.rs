@@ -32,6 +32,9 @@ struct Variable {
     start: String,
     /// The variable's own unit, else that of its declared type.
     unit: String,
+    /// The variable's declared `min` and `max` (empty: none declared).
+    min: String,
+    max: String,
 }
 
 /// What the documentation needs from the model description.
@@ -63,6 +66,8 @@ fn parse_model_description(xml: &str) -> Result<ModelInfo> {
             ty: v.ty.clone(),
             start: v.start.clone().unwrap_or_default(),
             unit: md.unit_of(v).unwrap_or_default().to_owned(),
+            min: v.min.clone().unwrap_or_default(),
+            max: v.max.clone().unwrap_or_default(),
         })
         .collect();
     Ok(ModelInfo {
@@ -81,7 +86,7 @@ fn variable_table(info: &ModelInfo, keep: impl Fn(&Variable) -> bool, with_start
     if with_start {
         html.push_str("<th>start</th>");
     }
-    html.push_str("<th>unit</th><th>description</th></tr>\n");
+    html.push_str("<th>unit</th><th>range</th><th>description</th></tr>\n");
     for v in info.variables.iter().filter(|v| keep(v)) {
         html.push_str(&format!(
             "<tr><td><code>{}</code></td><td>{}</td>",
@@ -97,13 +102,25 @@ fn variable_table(info: &ModelInfo, keep: impl Fn(&Variable) -> bool, with_start
             v.unit.clone()
         };
         html.push_str(&format!(
-            "<td>{}</td><td>{}</td></tr>\n",
+            "<td>{}</td><td>{}</td><td>{}</td></tr>\n",
             escape_html(&unit),
+            escape_html(&range(v)),
             escape_html(&v.description)
         ));
     }
     html.push_str("</table>\n");
     html
+}
+
+/// The declared range as the tables show it: `min … max`, `≥ min`, `≤ max`,
+/// or a dash when the model description declares none.
+fn range(v: &Variable) -> String {
+    match (v.min.as_str(), v.max.as_str()) {
+        ("", "") => "–".into(),
+        (min, "") => format!("≥ {min}"),
+        ("", max) => format!("≤ {max}"),
+        (min, max) => format!("{min} … {max}"),
+    }
 }
 
 /// Start value of a Real, Integer or Boolean variable as a number.
@@ -406,7 +423,10 @@ mod tests {
       <Real declaredType="Force" start="550"/>
     </ScalarVariable>
     <ScalarVariable name="n" valueReference="2" description="count" causality="parameter" variability="fixed">
-      <Integer start="150"/>
+      <Integer start="150" min="3" max="2000"/>
+    </ScalarVariable>
+    <ScalarVariable name="m" valueReference="4" description="mass" causality="parameter" variability="fixed">
+      <Real declaredType="Force" start="1" min="0"/>
     </ScalarVariable>
     <ScalarVariable name="y" valueReference="3" description="out" causality="output">
       <Real unit="m"/>
@@ -431,15 +451,17 @@ mod tests {
                     v.ty.as_str(),
                     v.start.as_str(),
                     v.unit.as_str(),
+                    range(v),
                 )
             })
             .collect();
         assert_eq!(
             v,
             [
-                ("p", "Real", "550", "N"),
-                ("n", "Integer", "150", ""),
-                ("y", "Real", "", "m")
+                ("p", "Real", "550", "N", "–".to_string()),
+                ("n", "Integer", "150", "", "3 … 2000".to_string()),
+                ("m", "Real", "1", "N", "≥ 0".to_string()),
+                ("y", "Real", "", "m", "–".to_string())
             ]
         );
     }
@@ -457,6 +479,8 @@ mod tests {
         let html = String::from_utf8(files[0].1.clone()).unwrap();
         assert!(html.contains("<h1>T</h1>"));
         assert!(html.contains("a &lt;force&gt;"));
+        assert!(html.contains("<th>unit</th><th>range</th>"));
+        assert!(html.contains("<td>3 … 2000</td>"));
         assert!(html.contains("<td>1.2</td>"));
         assert!(html.contains("startTime = 0, stopTime = 2"));
         assert!(!html.contains("<!--") && !html.contains("fmu:"));
