@@ -121,7 +121,7 @@ fn tap_span(d: &mut Drive, v0: f64) {
     let h = d.next_step_size();
     let stats = d.stats();
     let data = d.integrator_data();
-    assert!(d.restore(t, &y, inputs, h, stats, &data));
+    assert!(d.restore(t, &y, d.window(), inputs, h, stats, &data));
 }
 
 /// Dominant frequency of `d.outputs().span_mid_deflection[0]` over

@@ -181,7 +181,7 @@ fn frictionless_undamped_conserves_energy() {
     let (t, inputs, stats) = (d.time(), *d.inputs(), d.stats());
     let h = d.next_step_size();
     let data = d.integrator_data();
-    assert!(d.restore(t, &y, inputs, h, stats, &data));
+    assert!(d.restore(t, &y, d.window(), inputs, h, stats, &data));
     let e0 = {
         let o = d.outputs();
         o.kinetic_energy + o.potential_energy

@@ -257,6 +257,16 @@ fn reference_rhs<R: Recorder>(
         if R::ACTIVE {
             rec.pulley(j, belt_torque[j], drive, alpha);
         }
+        // impulse states: belt torque, drive torque, hub force
+        let q = s.impulse_offset(j);
+        dy[q] = belt_torque[j];
+        dy[q + 1] = drive;
+        dy[q + 2] = hub[j][0];
+        dy[q + 3] = hub[j][1];
+        mag[q] = belt_torque_mag[j];
+        mag[q + 1] = t_mag;
+        mag[q + 2] = hub_mag[j];
+        mag[q + 3] = hub_mag[j];
     }
     // Tensioner arms: I alpha'' = (c - pivot) x F_hub - k (alpha - alpha_free)
     // - d alpha' - M_c S(alpha' / w_c), S(u) = u (3 - u^2) / 2 saturated.

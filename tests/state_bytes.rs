@@ -2,7 +2,8 @@
 //! fast drive is refused with fmi2Error (and `*FMUstate` left alone) when
 //! truncated to every shorter length, extended, bit-flipped at random
 //! (seeded), or replaced by random bytes; a state of another parameter set
-//! (60 bodies) restores that parameter set and continues bit-identically.
+//! (60 bodies) restores that parameter set, its mean outputs over the last
+//! communication step, and continues bit-identically.
 #![cfg(unix)]
 
 mod abi;
@@ -16,6 +17,9 @@ const OUTPUTS: &[&str] = &[
     "pulley[2].omega",
     "span[1].tension",
     "probe.sdeForce",
+    "pulley[1].meanBeltTorque",
+    "pulley[2].meanHubForce.x",
+    "pulley[2].meanAlpha",
 ];
 
 fn refused(i: &Instance, bytes: &[u8], what: &str) {
@@ -125,6 +129,7 @@ fn a_state_of_another_parameter_set_restores_that_set() {
     let s = a.get_state();
     let bytes = a.serialize(s);
     a.free_state(s);
+    let saved = a.get(OUTPUTS);
     assert_eq!(a.step(3e-3, 1e-3), OK);
     let expected = a.get(OUTPUTS);
     // Into an initialized 40-body instance.
@@ -135,6 +140,8 @@ fn a_state_of_another_parameter_set_restores_that_set() {
     assert_eq!(unsafe { (fmi.set_state)(b.c, s2) }, OK);
     assert_eq!(b.get(&["belt.preload"]), [250.0]);
     assert_eq!(b.last_successful_time(), (OK, 3e-3));
+    // the means over the step before the save, not an empty window
+    assert_eq!(b.get(OUTPUTS), saved, "outputs at the restored time");
     assert_eq!(b.step(3e-3, 1e-3), OK);
     assert_eq!(b.get(OUTPUTS), expected, "continues bit-identically");
     b.free_state(s2);

@@ -97,7 +97,7 @@ fn restore_continues_bit_identically() {
         a.integrator_data(),
     );
     let mut b = belt_drive::belt::Drive::mounted(&p, 0.0).unwrap();
-    assert!(b.restore(t, &y, inputs, h, stats, &data));
+    assert!(b.restore(t, &y, a.window(), inputs, h, stats, &data));
     for k in k + 1..=k + 23 {
         a.advance(k as f64 * 1.3e-3).unwrap();
         b.advance(k as f64 * 1.3e-3).unwrap();
@@ -106,7 +106,7 @@ fn restore_continues_bit_identically() {
     assert_eq!(a.stats(), b.stats());
     // Data that does not fit is refused.
     let mut c = belt_drive::belt::Drive::mounted(&p, 0.0).unwrap();
-    assert!(!c.restore(t, &y, inputs, h, stats, &data[..data.len() - 1]));
+    assert!(!c.restore(t, &y, a.window(), inputs, h, stats, &data[..data.len() - 1]));
 }
 
 /// The paper's friction law (eq. 12-19) at dv = 1e-2 m/s: the stiff

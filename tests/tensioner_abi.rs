@@ -96,8 +96,9 @@ fn fnv1a_64(bytes: &[u8]) -> u64 {
     })
 }
 
-/// A state written by the previous snapshot version (2: no tensioner free
-/// angles) is refused with a message saying so, not misread.
+/// A state written by the previous snapshot version (3: no impulse states
+/// behind the mean force outputs; 2 had no tensioner free angles either) is
+/// refused with a message saying so, not misread.
 #[test]
 fn a_state_of_the_previous_version_is_refused() {
     let fmi = Fmi::load();
@@ -113,16 +114,16 @@ fn a_state_of_the_previous_version_is_refused() {
     let model = 16 + guid_len + 1 + 8 + 9 + 8;
     assert_eq!(
         u32::from_le_bytes(bytes[model..model + 4].try_into().unwrap()),
-        3
+        4
     );
-    bytes[model..model + 4].copy_from_slice(&2u32.to_le_bytes());
+    bytes[model..model + 4].copy_from_slice(&3u32.to_le_bytes());
     let n = bytes.len() - 8;
     let sum = fnv1a_64(&bytes[..n]);
     bytes[n..].copy_from_slice(&sum.to_le_bytes());
     let (status, _) = a.deserialize(&bytes);
     assert_eq!(status, ERROR);
     assert!(
-        a.logged(ERROR, "model state version 2 is not supported (expected 3)"),
+        a.logged(ERROR, "model state version 3 is not supported (expected 4)"),
         "{:?}",
         a.log.borrow()
     );

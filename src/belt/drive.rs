@@ -5,7 +5,9 @@ use super::elements::contact::{smoothstep, AUTO_P_MAX_PER_PENETRATION};
 use super::iteration_matrix::IterationMatrix;
 use super::jacobian::Jacobian;
 use super::layout::Layout;
-use super::model::{BeltSystem, Inputs, NoRecord, Recorder, Relaxation, Workspace, BODY_DOF};
+use super::model::{
+    BeltSystem, Inputs, NoRecord, Recorder, Relaxation, Workspace, BODY_DOF, IMPULSES,
+};
 use super::param_id::{msg, Message, Param, Part};
 use super::params::{DriveParams, Method, ParamError, MAX_PULLEYS, PROBE_AUTO};
 use super::rkf45::Rkf45;
@@ -24,6 +26,9 @@ impl OdeSystem for BeltSystem {
     #[inline]
     fn rhs(&self, ws: &mut Workspace, t: f64, y: &[f64], dy: &mut [f64]) {
         BeltSystem::rhs(self, ws, t, y, dy, &mut NoRecord);
+    }
+    fn controlled_dim(&self) -> usize {
+        BeltSystem::controlled_dim(self)
     }
     fn after_step(&self, y: &mut [f64]) {
         BeltSystem::after_step(self, y);
@@ -82,6 +87,8 @@ impl StiffSystem for BeltSystem {
             body[3] = velocities;
             body[4] = velocities;
         }
+        // the impulses are outputs only
+        mask[self.controlled_dim()..].fill(0.0);
     }
 }
 
@@ -188,6 +195,12 @@ pub struct PulleyOutputs {
     pub drive_torque: f64,
     /// Force of the belt on the hub [N].
     pub hub_force: [f64; 2],
+    /// Means over the last communication step (see [`Window`]): belt torque
+    /// and drive torque [N m], force on the hub [N], acceleration [rad/s2].
+    pub mean_belt_torque: f64,
+    pub mean_drive_torque: f64,
+    pub mean_hub_force: [f64; 2],
+    pub mean_alpha: f64,
     /// 1 - v_j / v_1: surface speed loss relative to pulley 1.
     pub slip: f64,
     pub wrap_angle: f64,
@@ -353,6 +366,7 @@ fn relax_into_equilibrium(sys: &BeltSystem, ws: &mut Workspace, y: &mut [f64], m
     let e = relax.energy_offset();
     y[e] = 0.0;
     y[e + 1] = 0.0;
+    y[relax.controlled_dim()..].fill(0.0);
     for p in &relax.pulleys[..relax.np] {
         if p.decoupler.is_some() {
             y[p.decoupler_offset] = 0.0;
@@ -399,6 +413,20 @@ fn mount_arms(sys: &mut BeltSystem, ws: &mut Workspace, t: f64, y: &[f64]) {
 /// Step-count guard of the equilibrium relaxation.
 const RELAX_MAX_STEPS: u64 = TUNING.relax_max_steps;
 
+/// The window the mean outputs average over: the last call of
+/// [`Drive::advance`] (in the FMU, the last communication step). The
+/// impulses over it are states (`BeltSystem::impulse_offset`), reset at its
+/// start; the pulley speeds' change over it gives the mean accelerations.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Window {
+    /// Time the window starts at; equal to the drive's time before the
+    /// first step (an empty window: the means are the instantaneous values).
+    pub start: f64,
+    /// Change of each pulley's speed over the window [rad/s] (a speed
+    /// input set after the window does not count).
+    pub omega_change: [f64; MAX_PULLEYS],
+}
+
 /// A belt drive ready to run.
 #[derive(Clone, Debug)]
 pub struct Drive {
@@ -407,6 +435,7 @@ pub struct Drive {
     sys: BeltSystem,
     t: f64,
     y: Vec<f64>,
+    window: Window,
     integrator: Integrator,
     /// Scratch of the right-hand side.
     ws: Workspace,
@@ -547,6 +576,10 @@ impl Drive {
             sys,
             t: t0,
             y,
+            window: Window {
+                start: t0,
+                omega_change: [0.0; MAX_PULLEYS],
+            },
             integrator,
             ws: Workspace::new(),
             dy: vec![0.0; dim],
@@ -611,11 +644,37 @@ impl Drive {
         }
     }
 
-    /// Integrates to exactly `t_end`. On failure the drive stays at its
-    /// last good state (the time and state of the call).
+    /// Integrates to exactly `t_end`; the mean outputs then average over
+    /// this call ([`Window`]). On failure the drive stays at its last good
+    /// state (the time, state and window of the call).
     pub fn advance(&mut self, t_end: f64) -> Result<(), StepFailure> {
-        self.integrator
-            .advance(&self.sys, &mut self.ws, &mut self.t, &mut self.y, t_end)
+        let q = self.sys.controlled_dim();
+        let mut impulses = [0.0; IMPULSES * MAX_PULLEYS];
+        let kept = &mut impulses[..self.y.len() - q];
+        kept.copy_from_slice(&self.y[q..]);
+        self.y[q..].fill(0.0);
+        let mut omega = [0.0; MAX_PULLEYS];
+        for (j, w) in omega.iter_mut().enumerate().take(self.sys.np) {
+            *w = self.sys.pulley_speed(j, self.t, &self.y);
+        }
+        let start = self.t;
+        let result =
+            self.integrator
+                .advance(&self.sys, &mut self.ws, &mut self.t, &mut self.y, t_end);
+        if result.is_err() {
+            self.y[q..].copy_from_slice(kept);
+            return result;
+        }
+        self.window.start = start;
+        for (j, w) in omega.iter().enumerate().take(self.sys.np) {
+            self.window.omega_change[j] = self.sys.pulley_speed(j, self.t, &self.y) - w;
+        }
+        result
+    }
+
+    /// The window the mean outputs average over.
+    pub fn window(&self) -> Window {
+        self.window
     }
 
     /// All outputs at the current state.
@@ -675,6 +734,21 @@ impl Drive {
                 0.0
             };
             po.wrap_angle = self.layout.wrap_of(j).map_or(0.0, |w| w.angle);
+            // means over the window: impulse / duration, exact for both
+            // integrators; the instantaneous values of an empty window
+            let span = self.t - self.window.start;
+            if span > 0.0 {
+                let q = self.sys.impulse_offset(j);
+                po.mean_belt_torque = self.y[q] / span;
+                po.mean_drive_torque = self.y[q + 1] / span;
+                po.mean_hub_force = [self.y[q + 2] / span, self.y[q + 3] / span];
+                po.mean_alpha = self.window.omega_change[j] / span;
+            } else {
+                po.mean_belt_torque = po.belt_torque;
+                po.mean_drive_torque = po.drive_torque;
+                po.mean_hub_force = po.hub_force;
+                po.mean_alpha = po.alpha;
+            }
             let v = surface(j);
             out.span_slip[j] = if v != 0.0 {
                 1.0 - surface((j + 1) % np) / v
@@ -764,22 +838,25 @@ impl Drive {
         self.integrator.save(&self.sys)
     }
 
-    /// Replaces time, state, inputs and integrator data (restoring a
-    /// snapshot of the same parameters; `integrator_data` as returned by
+    /// Replaces time, state, window, inputs and integrator data (restoring
+    /// a snapshot of the same parameters; `integrator_data` as returned by
     /// [`integrator_data`](Self::integrator_data)). False if they do not fit.
+    #[allow(clippy::too_many_arguments)]
     pub fn restore(
         &mut self,
         t: f64,
         y: &[f64],
+        window: Window,
         inputs: Inputs,
         h: f64,
         stats: Stats,
         integrator_data: &[f64],
     ) -> bool {
-        if y.len() != self.y.len() {
+        if y.len() != self.y.len() || window.start.is_nan() || window.start > t {
             return false;
         }
         self.t = t;
+        self.window = window;
         self.y.copy_from_slice(y);
         self.sys.inputs = inputs;
         self.integrator

@@ -15,6 +15,9 @@
 //!    border), the border is solved densely (LU with partial pivoting), and
 //!    the bodies are found by back substitution.
 //!
+//! 3. The impulse states (jacobian.rs) have rows but no columns: they
+//!    follow from the solution, x_q = b_q + c G x.
+//!
 //! Factoring costs a few hundred flops per body, each solve about sixty; no
 //! allocation after construction.
 
@@ -674,6 +677,15 @@ impl<const NB: usize> Factors<NB> {
             }
             next = self.dinv[i] * r;
             Self::recover(jac, c, &dw[..sys.np], &dr[..sys.np], b, i, next, self.bz[i]);
+        }
+        // 3. impulses: nothing depends on them, their rows give
+        //    x_q = b_q + c (dG/dy) x
+        let rows = jac.impulse_rows(sys, b);
+        for (j, r) in rows.iter().enumerate().take(sys.np) {
+            let q = sys.impulse_offset(j);
+            for (k, v) in r.iter().enumerate() {
+                b[q + k] += c * v;
+            }
         }
     }
 }

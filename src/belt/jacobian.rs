@@ -13,6 +13,15 @@
 //! Positions never depend on anything but velocities (dq/dt = v), pulley
 //! angles only on pulley speeds; the energy accumulators are left out (the
 //! W-method keeps its order with an approximate Jacobian, see rosenbrock.rs).
+//!
+//! The impulse states (belt torque, drive torque and hub force of each
+//! pulley integrated over the communication step) have rows but no columns:
+//! nothing depends on them. Their rows are the exact partials of the
+//! integrated forces, so that the stiff method integrates the forces with
+//! the same linearisation that moves the pulleys: a fast contact motion it
+//! leaves unresolved at the step end then adds to the impulse only what it
+//! adds to the pulley's momentum (I omega + d theta - impulse of the applied
+//! torque = belt torque impulse holds for both, to the step's round-off).
 
 use super::elements::contact;
 use super::elements::sde::{self, BodyEnd};
@@ -20,7 +29,7 @@ use super::model::{BeltSystem, PulleyConst, BODY_DOF};
 use super::params::MAX_PULLEYS;
 use super::simd::{self, Isa};
 use super::trig;
-use nalgebra::{Matrix2, Matrix3, RowVector3, SMatrix, Vector2, Vector3};
+use nalgebra::{Matrix2, Matrix3, RowVector2, RowVector3, SMatrix, Vector2, Vector3};
 
 /// Derivatives of one body's rows: accelerations (vx', vy', omega') and creep rate z'.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -41,6 +50,16 @@ pub struct BodyJacobian {
     pub pq: [RowVector3<f64>; MAX_PULLEYS],
     pub pv: [RowVector3<f64>; MAX_PULLEYS],
     pub pz: [f64; MAX_PULLEYS],
+    /// d(belt torque on pulley j)/d(this body's position, velocity, z): the
+    /// rows of the belt-torque impulse (all pulleys, speed-driven too).
+    pub tq: [RowVector2<f64>; MAX_PULLEYS],
+    pub tv: [RowVector2<f64>; MAX_PULLEYS],
+    pub tz: [f64; MAX_PULLEYS],
+    /// d(force on pulley j's hub)/d(this body's position, velocity, z): the
+    /// rows of the hub-force impulse.
+    pub hq: [Matrix2<f64>; MAX_PULLEYS],
+    pub hv: [Matrix2<f64>; MAX_PULLEYS],
+    pub hz: [Vector2<f64>; MAX_PULLEYS],
     /// Bit j set: the body touches pulley j (only those entries are non-zero).
     pub touching: u8,
 }
@@ -63,6 +82,10 @@ pub struct DecouplerJacobian {
     /// d(hub alpha)/d(twist, omega_rotor).
     pub ht: f64,
     pub hr: f64,
+    /// d(drive torque)/d(twist, omega_rotor) of a speed-driven hub (the
+    /// drive-torque impulse's row; zero on a torque-driven hub).
+    pub dt: f64,
+    pub dr: f64,
 }
 
 /// Derivatives of a tensioner arm's rate row (arm acceleration) with
@@ -80,6 +103,12 @@ pub struct ArmJacobian {
     /// d(pulley acceleration)/d(arm angle, arm rate).
     pub pa: f64,
     pub pr: f64,
+    /// d(belt torque on the pulley)/d(arm angle, arm rate) and d(force on its
+    /// hub)/d(arm angle, arm rate): the impulse rows' arm columns.
+    pub ta: f64,
+    pub tr: f64,
+    pub fa: Vector2<f64>,
+    pub fr: Vector2<f64>,
 }
 
 /// How one body's rows and a tensioner arm's row depend on each other,
@@ -109,6 +138,10 @@ pub struct Jacobian {
     pub free: [bool; MAX_PULLEYS],
     /// Decoupler of pulley j (zero if it has none).
     pub dec: [DecouplerJacobian; MAX_PULLEYS],
+    /// d(belt torque on pulley j)/d(omega_j) and d(hub force j)/d(omega_j),
+    /// torque-driven pulleys (a speed-driven pulley's speed is an input).
+    pub tw: [f64; MAX_PULLEYS],
+    pub hw: [Vector2<f64>; MAX_PULLEYS],
     /// Tensioner arm of pulley j (zero if it has none).
     pub arm: [ArmJacobian; MAX_PULLEYS],
     /// Per body, its coupling with the arms (empty in a drive without arms).
@@ -136,6 +169,8 @@ impl Jacobian {
             pw: [[0.0; MAX_PULLEYS]; MAX_PULLEYS],
             free,
             dec: [DecouplerJacobian::default(); MAX_PULLEYS],
+            tw: [0.0; MAX_PULLEYS],
+            hw: [Vector2::zeros(); MAX_PULLEYS],
             arm: [ArmJacobian::default(); MAX_PULLEYS],
             arm_bodies: if sys.n_arms > 0 {
                 vec![BodyArmJacobian::default(); sys.n]
@@ -161,6 +196,16 @@ impl Jacobian {
             for v in b.pq.iter_mut().chain(b.pv.iter_mut()) {
                 v.iter_mut().for_each(&mut *f);
             }
+            for v in b.tq.iter_mut().chain(b.tv.iter_mut()) {
+                v.iter_mut().for_each(&mut *f);
+            }
+            b.tz.iter_mut().for_each(&mut *f);
+            for m in b.hq.iter_mut().chain(b.hv.iter_mut()) {
+                m.iter_mut().for_each(&mut *f);
+            }
+            for v in &mut b.hz {
+                v.iter_mut().for_each(&mut *f);
+            }
             let mut touching = f64::from(b.touching);
             f(&mut touching);
             b.touching = touching as u8;
@@ -169,15 +214,22 @@ impl Jacobian {
         for d in &mut self.dec {
             for v in [
                 &mut d.tt, &mut d.th, &mut d.tr, &mut d.rt, &mut d.rh, &mut d.rr, &mut d.ht,
-                &mut d.hr,
+                &mut d.hr, &mut d.dt, &mut d.dr,
             ] {
                 f(v);
             }
         }
+        self.tw.iter_mut().for_each(&mut *f);
+        for v in &mut self.hw {
+            v.iter_mut().for_each(&mut *f);
+        }
         for a in &mut self.arm {
-            for v in [&mut a.aa, &mut a.ar, &mut a.aw, &mut a.pa, &mut a.pr] {
+            for v in [
+                &mut a.aa, &mut a.ar, &mut a.aw, &mut a.pa, &mut a.pr, &mut a.ta, &mut a.tr,
+            ] {
                 f(v);
             }
+            a.fa.iter_mut().chain(a.fr.iter_mut()).for_each(&mut *f);
         }
         for b in &mut self.arm_bodies {
             for v in b.aa.iter_mut().chain(b.ar.iter_mut()) {
@@ -191,6 +243,61 @@ impl Jacobian {
                 .chain(b.rz.iter_mut())
                 .for_each(&mut *f);
         }
+    }
+
+    /// The impulse rows applied to `x` (a full state vector): the rates of
+    /// belt torque, drive torque and hub force x, y of each pulley that the
+    /// linearisation gives for the state change `x` (`[pulley][4]`).
+    pub fn impulse_rows(&self, sys: &BeltSystem, x: &[f64]) -> [[f64; 4]; MAX_PULLEYS] {
+        let np = sys.np;
+        let mut torque = [0.0; MAX_PULLEYS];
+        let mut hub = [Vector2::zeros(); MAX_PULLEYS];
+        for (i, b) in self.bodies.iter().enumerate() {
+            if b.touching == 0 {
+                continue;
+            }
+            let o = BODY_DOF * i;
+            let (dq, dv, dz) = (
+                Vector2::new(x[o], x[o + 1]),
+                Vector2::new(x[o + 3], x[o + 4]),
+                x[o + 6],
+            );
+            for j in 0..np {
+                if b.touching & (1 << j) != 0 {
+                    torque[j] +=
+                        b.tq[j].dot(&dq.transpose()) + b.tv[j].dot(&dv.transpose()) + b.tz[j] * dz;
+                    hub[j] += b.hq[j] * dq + b.hv[j] * dv + b.hz[j] * dz;
+                }
+            }
+        }
+        let mut out = [[0.0; 4]; MAX_PULLEYS];
+        for j in 0..np {
+            let pc = &sys.pulleys[j];
+            if self.free[j] {
+                let dw = x[sys.pulley_offset(j) + 1];
+                torque[j] += self.tw[j] * dw;
+                hub[j] += self.hw[j] * dw;
+            }
+            if pc.arm.is_some() {
+                let (o, a) = (pc.arm_offset, &self.arm[j]);
+                torque[j] += a.ta * x[o] + a.tr * x[o + 1];
+                hub[j] += a.fa * x[o] + a.fr * x[o + 1];
+            }
+            // drive torque of a speed-driven pulley: prescribed terms less
+            // the belt's torque (and plus a decoupler's clutch torque)
+            let drive = if pc.speed_driven {
+                let mut d = -torque[j];
+                if pc.decoupler.is_some() {
+                    let o = pc.decoupler_offset;
+                    d += self.dec[j].dt * x[o] + self.dec[j].dr * x[o + 1];
+                }
+                d
+            } else {
+                0.0
+            };
+            out[j] = [torque[j], drive, hub[j].x, hub[j].y];
+        }
+        out
     }
 
     /// Appends the stored numbers to `out`.
@@ -290,6 +397,18 @@ impl Jacobian {
                 }
             }
         }
+        // impulse rows: the linear map applied to each unit vector
+        let mut e = vec![0.0; dim];
+        for col in 0..sys.controlled_dim() {
+            e[col] = 1.0;
+            let rows = self.impulse_rows(sys, &e);
+            e[col] = 0.0;
+            for (j, r) in rows.iter().enumerate().take(sys.np) {
+                for (k, v) in r.iter().enumerate() {
+                    set(sys.impulse_offset(j) + k, col, *v);
+                }
+            }
+        }
         m
     }
 }
@@ -323,6 +442,8 @@ impl BeltSystem {
             *w = self.pulley_speed(j, t, y);
         }
         jac.pw = [[0.0; MAX_PULLEYS]; MAX_PULLEYS];
+        jac.tw = [0.0; MAX_PULLEYS];
+        jac.hw = [Vector2::zeros(); MAX_PULLEYS];
         let mut buf = [PulleyConst::NONE; MAX_PULLEYS];
         let pulleys = self.pulleys_in_effect(&mut buf);
         let (inv_m, inv_i) = (self.inv_mass, self.inv_inertia);
@@ -373,6 +494,12 @@ impl BeltSystem {
                 b.pq[j] = RowVector3::zeros();
                 b.pv[j] = RowVector3::zeros();
                 b.pz[j] = 0.0;
+                b.tq[j] = RowVector2::zeros();
+                b.tv[j] = RowVector2::zeros();
+                b.tz[j] = 0.0;
+                b.hq[j] = Matrix2::zeros();
+                b.hv[j] = Matrix2::zeros();
+                b.hz[j] = Vector2::zeros();
             }
             if with_arms {
                 jac.arm_bodies[i] = BodyArmJacobian::default();
@@ -435,6 +562,13 @@ impl BeltSystem {
                     let aj = &mut jac.arm[j];
                     aj.aa -= dc.dot(&f_a) * inv;
                     aj.ar -= dc.dot(&f_r) * inv;
+                    // impulse rows: the belt torque -r f and the hub force
+                    // -F through the moving centre
+                    aj.ta += pc.radius
+                        * (cp.fric_x.dot(&dc.transpose()) + cp.fric_v.dot(&ddc.transpose()));
+                    aj.tr += pc.radius * cp.fric_v.dot(&dc.transpose());
+                    aj.fa -= f_a;
+                    aj.fr -= f_r;
                     if !pc.speed_driven {
                         aj.aw -= dc.dot(&tau) * cp.fric_w * inv;
                         // the pulley's torque -r_c f through the moving centre
@@ -464,7 +598,20 @@ impl BeltSystem {
                         b.gw[j] += pc.lever;
                     }
                 }
-                // pulley torque -r_c f on the pulley's acceleration (eq. 24)
+                // impulse rows: belt torque -r f, hub force -(N n + f t)
+                let r = pc.lever;
+                let tv2 = Vector2::new(tau[0], tau[1]);
+                b.tq[j] = -r * cp.fric_x;
+                b.tv[j] = -r * cp.fric_v;
+                b.tz[j] = -r * cp.fric_z;
+                b.hq[j] = -cp.f_x;
+                b.hv[j] = -cp.f_v;
+                b.hz[j] = -cp.fric_z * tv2;
+                if free {
+                    jac.tw[j] += -r * cp.fric_w;
+                    jac.hw[j] += -cp.fric_w * tv2;
+                }
+                // pulley torque -r f on the pulley's acceleration (eq. 24)
                 if free {
                     let k = -pc.lever * pc.balance_partials().1;
                     b.pq[j] = RowVector3::new(k * cp.fric_x[0], k * cp.fric_x[1], 0.0);
@@ -597,6 +744,8 @@ impl BeltSystem {
                 rr: (-law.torque_d_rate - pc.load_damping) * inv_r,
                 ht: free * -s * law.torque_d_twist * pc.inv_inertia,
                 hr: free * law.torque_d_rate * pc.inv_inertia,
+                dt: (1.0 - free) * s * law.torque_d_twist,
+                dr: (1.0 - free) * -law.torque_d_rate,
             };
             if !pc.speed_driven {
                 jac.pw[j][j] -= law.torque_d_rate * pc.inv_inertia;
@@ -652,7 +801,8 @@ mod tests {
 
     /// Compares the analytic Jacobian with central differences of the
     /// right-hand side, column by column (energy rows excluded: the W-method
-    /// leaves them out). Returns the number of columns checked.
+    /// leaves them out; the impulse rows included). Returns the number of
+    /// columns checked.
     fn check(sys: &BeltSystem, t: f64, y: &[f64]) -> usize {
         let dim = sys.dim();
         let mut jac = Jacobian::new(sys);
@@ -770,7 +920,7 @@ mod tests {
                     y[o + 1] = on_ramp.y;
                 }
                 let cols = check(d.system(), 0.02, &y);
-                assert_eq!(cols, d.system().energy_offset());
+                assert_eq!(cols, d.system().dim() - 2);
             }
         }
     }

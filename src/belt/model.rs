@@ -9,7 +9,11 @@
 //! * per pulley with a decoupler, in pulley order: `[twist, rotor omega]`
 //!   (`elements::decoupler`);
 //! * per pulley on a tensioner arm, in pulley order: `[arm angle, arm rate]`
-//!   (`elements::tensioner`); the pulley's centre moves with the arm.
+//!   (`elements::tensioner`); the pulley's centre moves with the arm;
+//! * per pulley: the impulses `[belt torque, drive torque, hub force x, hub
+//!   force y]` integrated since the start of the current communication step
+//!   (quadrature states: they feed nothing back and are left out of the
+//!   error control; their means over the step are outputs, see `drive.rs`).
 
 use super::elements::contact::{self, ContactLaw};
 use super::elements::decoupler::Decoupler;
@@ -26,6 +30,9 @@ use super::trig;
 
 /// Values per body in the state vector.
 pub const BODY_DOF: usize = 7;
+
+/// Impulse states per pulley: belt torque, drive torque, hub force x, y.
+pub const IMPULSES: usize = 4;
 
 /// Inputs held over a communication step: value at `t0` plus a rate (FMI
 /// input derivatives), so inputs ramp linearly within the step.
@@ -447,7 +454,19 @@ impl BeltSystem {
 
     /// Length of the state vector.
     pub fn dim(&self) -> usize {
-        BODY_DOF * self.n + 2 * self.np + 2 + 2 * self.n_decouplers + 2 * self.n_arms
+        self.impulse_offset(0) + IMPULSES * self.np
+    }
+
+    /// States whose error the integrators control: all but the impulses at
+    /// the end, which feed nothing back.
+    pub fn controlled_dim(&self) -> usize {
+        self.impulse_offset(0)
+    }
+
+    /// Offset of pulley j's impulses `[belt torque, drive torque, hub force
+    /// x, hub force y]` (after the decoupler and arm states).
+    pub fn impulse_offset(&self, j: usize) -> usize {
+        BODY_DOF * self.n + 2 * self.np + 2 + 2 * self.n_decouplers + 2 * self.n_arms + IMPULSES * j
     }
 
     /// Centre of pulley j in state `y` and its velocity: the fixed centre,
@@ -723,7 +742,7 @@ impl BeltSystem {
             *c = [p[0], p[1], v[0], v[1]];
         }
         let mut belt_torque = [0.0; MAX_PULLEYS];
-        // force of the belt on each tensioner pulley's hub
+        // force of the belt on each pulley's hub
         let mut hub = [[0.0; 2]; MAX_PULLEYS];
         let mut p_diss = 0.0;
 
@@ -789,7 +808,13 @@ impl BeltSystem {
             };
             if R::ACTIVE {
                 rec.pulley(j, belt_torque[j], bal.drive, bal.alpha);
+                rec.hub_force(j, hub[j][0], hub[j][1]);
             }
+            let q = self.impulse_offset(j);
+            dy[q] = belt_torque[j];
+            dy[q + 1] = bal.drive;
+            dy[q + 2] = hub[j][0];
+            dy[q + 3] = hub[j][1];
         }
         // Tensioner arms: I_arm alpha'' = (c - pivot) x F_hub + M_arm.
         for (j, pc) in self.pulleys[..np].iter().enumerate() {
@@ -962,8 +987,7 @@ impl BeltSystem {
     /// surface speed `surface`), friction coefficient `mu(v_T, z, mu_s,
     /// mu_k)`: added to the bodies' own forces and creep rates. Returns the
     /// moment r f about the pulley's axis summed over the contacts, their
-    /// power, and, for a pulley on a tensioner arm, the sum of the contact
-    /// forces on the bodies (else zero).
+    /// power, and the sum of the contact forces on the bodies.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn contacts<R: Recorder>(
@@ -1028,17 +1052,15 @@ impl BeltSystem {
                 let v = b.rec_q[j];
                 if v[6] != 0.0 {
                     rec.contact(i0 + j, q, v[0], v[1], v[2], v[3]);
-                    rec.hub_force(q, -v[4], -v[5]);
                     rec.belt_loss(v[7]);
                 }
             }
         }
-        let on_bodies = if pc.arm.is_some() {
-            [sum(&b.cfx[lo..hi]), sum(&b.cfy[lo..hi])]
-        } else {
-            [0.0; 2]
-        };
-        (sum(&b.torque_q[lo..hi]), sum(&b.diss_q[lo..hi]), on_bodies)
+        (
+            sum(&b.torque_q[lo..hi]),
+            sum(&b.diss_q[lo..hi]),
+            [sum(&b.cfx[lo..hi]), sum(&b.cfy[lo..hi])],
+        )
     }
 
     /// Discrete update after every accepted step: the creep displacement of a

@@ -233,6 +233,8 @@ impl Rkf45 {
         sys.rhs(ws, t + C[5] * h, tmp, k6);
         self.control.stats.rhs_evals += 6;
         let (abs_tol, rel_tol) = (self.abs_tol, self.rel_tol);
+        // the components past `controlled` (quadratures) carry no error
+        let controlled = sys.controlled_dim();
         let sum = simd::dispatch_with(
             isa,
             (&mut tmp[..], &k1[..], &k3[..], &k4[..], &k5[..], &k6[..]),
@@ -253,14 +255,14 @@ impl Rkf45 {
                             + E[4] * k5[i]
                             + E[5] * k6[i]);
                     let w = abs_tol + rel_tol * y[i].abs().max(y5.abs());
-                    let e = err / w;
+                    let e = if i < controlled { err / w } else { 0.0 };
                     sum += e * e;
                     tmp[i] = y5;
                 }
                 sum
             },
         );
-        (sum / y.len() as f64).sqrt()
+        (sum / controlled as f64).sqrt()
     }
 
     /// Integrates `y` from `*t` to exactly `t_end`. On failure `y` and `*t`

@@ -14,6 +14,11 @@ pub trait OdeSystem {
     fn workspace(&self) -> Self::Workspace;
     /// dy = f(t, y), with scratch `ws`.
     fn rhs(&self, ws: &mut Self::Workspace, t: f64, y: &[f64], dy: &mut [f64]);
+    /// The first `controlled_dim` components enter the error norm; the rest
+    /// are quadratures that feed nothing back (all by default).
+    fn controlled_dim(&self) -> usize {
+        self.dim()
+    }
     /// Called with the new state after every accepted step.
     fn after_step(&self, _y: &mut [f64]) {}
 }

@@ -4,11 +4,14 @@
 //! continues bit-identically.
 
 use super::*;
+use crate::belt::drive::Window;
 use crate::belt::rkf45::Stats;
 
 /// 2: integrator data (the stiff method's kept Jacobian) after the state;
-/// 3: the tensioner springs' free angles found by the mounting after that.
-pub(super) const VERSION: u32 = 3;
+/// 3: the tensioner springs' free angles found by the mounting after that;
+/// 4: the impulse states (mean force outputs) in the state, the window they
+/// average over after it.
+pub(super) const VERSION: u32 = 4;
 
 struct Writer<'a>(&'a mut Vec<u8>);
 impl Writer<'_> {
@@ -109,6 +112,9 @@ pub fn write(m: &BeltDrive, out: &mut Vec<u8>) {
             w.u64(s.rhs_evals);
             w.f64(s.last_step);
             w.f64s(d.state());
+            let window = d.window();
+            w.f64(window.start);
+            w.f64s(&window.omega_change);
             w.f64s(&d.integrator_data());
             w.f64s(&d.arm_free_angles());
         }
@@ -158,13 +164,21 @@ pub fn read(bytes: &[u8]) -> Result<BeltDrive, String> {
             let mut drive = Drive::mounted(&params, m.start_time)
                 .map_err(|e| super::names::render_error(&e))?;
             let y = r.f64s(drive.state().len())?;
+            let window = Window {
+                start: r.f64()?,
+                omega_change: r.f64s(MAX_PULLEYS)?.try_into().expect("length checked"),
+            };
             let mut inputs = m.inputs;
             inputs.t0 = t0;
-            if !(t.is_finite() && h.is_finite() && h > 0.0 && y.iter().all(|x| x.is_finite())) {
+            let finite = y.iter().chain(&window.omega_change).all(|x| x.is_finite());
+            if !(t.is_finite() && h.is_finite() && h > 0.0 && window.start.is_finite() && finite) {
                 return Err("model state holds non-finite values".into());
             }
+            if window.start > t {
+                return Err("model state is corrupt (averaging window after its time)".into());
+            }
             let data = r.f64s_any()?;
-            if !drive.restore(t, &y, inputs, h, stats, &data) {
+            if !drive.restore(t, &y, window, inputs, h, stats, &data) {
                 return Err("model state's integrator data does not fit the parameters".into());
             }
             let free = r.f64s(drive.arm_free_angles().len())?;

@@ -147,7 +147,7 @@ pub fn set_state(drive: &mut Drive, y: &[f64]) -> Result<(), String> {
     let stats = drive.stats();
     let h = drive.next_step_size();
     let data = drive.integrator_data();
-    if drive.restore(t, y, inputs, h, stats, &data) {
+    if drive.restore(t, y, drive.window(), inputs, h, stats, &data) {
         Ok(())
     } else {
         Err(format!(
