@@ -21,15 +21,20 @@ use std::f64::consts::TAU;
 pub struct Span {
     /// Pulley (index into `DriveParams::pulleys`) the span leaves and reaches.
     pub from: usize,
+    /// Pulley the span reaches.
     pub to: usize,
+    /// Tangent point where the span leaves `from` [m].
     pub start: [f64; 2],
+    /// Tangent point where the span reaches `to` [m].
     pub end: [f64; 2],
     /// Direction angle of travel (loop order) [rad].
     pub angle: f64,
+    /// Free length [m].
     pub length: f64,
 }
 
 impl Span {
+    /// Mid-point of the span [m].
     pub fn midpoint(&self) -> [f64; 2] {
         [
             0.5 * (self.start[0] + self.end[0]),
@@ -41,6 +46,7 @@ impl Span {
 /// The wrap of the belt on one pulley.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Wrap {
+    /// The pulley (index into `DriveParams::pulleys`).
     pub pulley: usize,
     /// +1 inside the loop (counterclockwise wrap), -1 back-side idler.
     pub side: f64,
@@ -57,13 +63,16 @@ pub struct Wrap {
 /// Initial pose of one body.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BodyPose {
+    /// Centre x [m].
     pub x: f64,
+    /// Centre y [m].
     pub y: f64,
     /// Orientation, continuous along the loop (grows by 2*pi once around).
     pub phi: f64,
 }
 
 #[derive(Clone, Debug, PartialEq)]
+/// The mounted belt: path around the pulleys and the bodies placed on it.
 pub struct Layout {
     /// Spans in loop order; `spans[m]` leaves `wraps[m].pulley`... see `span_of_pair`.
     pub spans: Vec<Span>,
@@ -73,6 +82,7 @@ pub struct Layout {
     pub body_length: f64,
     /// Length of the belt path through the contact line [m].
     pub path_length: f64,
+    /// Mounted pose of every body, in belt order.
     pub bodies: Vec<BodyPose>,
 }
 
@@ -444,6 +454,7 @@ impl Layout {
         forward.or_else(|| self.spans.iter().find(|s| s.from == b && s.to == a))
     }
 
+    /// The wrap on `pulley`, if the belt wraps it.
     pub fn wrap_of(&self, pulley: usize) -> Option<&Wrap> {
         self.wraps.iter().find(|w| w.pulley == pulley)
     }

@@ -38,16 +38,22 @@ pub const IMPULSES: usize = 4;
 /// input derivatives), so inputs ramp linearly within the step.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Inputs {
+    /// Time the inputs were set [s].
     pub t0: f64,
+    /// Torque input per pulley at `t0` [N m].
     pub torque: [f64; MAX_PULLEYS],
+    /// Rate of the torque input [N m/s].
     pub torque_rate: [f64; MAX_PULLEYS],
+    /// Speed reference per speed-driven pulley at `t0` [rad/s].
     pub omega_ref: [f64; MAX_PULLEYS],
+    /// Rate of the speed reference [rad/s^2].
     pub omega_ref_rate: [f64; MAX_PULLEYS],
 }
 
 /// Observer of the force evaluation, used for outputs. The hot path uses
 /// [`NoRecord`], whose calls compile away.
 pub trait Recorder {
+    /// False for [`NoRecord`]: the recording code then compiles away.
     const ACTIVE: bool;
     /// Translational SDE `k` (between body k-1 and body k): its tension and
     /// the midpoint of the gap it spans.
@@ -62,6 +68,7 @@ pub trait Recorder {
     /// Per decoupler pulley: the torque its clutch transmits (>= 0, in the
     /// clutch's driving sense) and the rotor's speed.
     fn decoupler(&mut self, _pulley: usize, _torque: f64, _rotor_omega: f64) {}
+    /// Power put in by drives and inputs, and power dissipated [W].
     fn power(&mut self, _input: f64, _dissipated: f64) {}
     /// A share of the power dissipated in the belt (SDE dampers, contact
     /// damping, friction slip without the creep springs); the shares of
@@ -69,6 +76,7 @@ pub trait Recorder {
     fn belt_loss(&mut self, _p: f64) {}
 }
 
+/// The recorder of the hot path: records nothing.
 pub struct NoRecord;
 impl Recorder for NoRecord {
     const ACTIVE: bool = false;
@@ -356,6 +364,7 @@ fn sum(v: &[f64]) -> f64 {
 }
 
 impl BeltSystem {
+    /// The system of validated `params` on the mounted `layout`.
     pub fn new(params: &DriveParams, layout: &Layout) -> Self {
         let l = layout.body_length;
         let b = &params.belt;

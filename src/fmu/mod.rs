@@ -35,6 +35,7 @@ struct IntegerParams {
 }
 
 #[derive(Clone, Debug)]
+/// The FMU's model: parameters and inputs as set through FMI, and the drive built from them.
 pub struct BeltDrive {
     /// Every parameter; `params.pulleys` always holds all six slots.
     params: DriveParams,

@@ -55,6 +55,7 @@ impl Default for Options {
 pub enum Part {
     /// Span k (1-based: from pulley k to pulley k+1 in the parameter order).
     SpanTransverse(usize),
+    /// Span k's stretching along the belt (1-based).
     SpanLongitudinal(usize),
     /// Pulley j's rotation (1-based).
     PulleyRotation(usize),
@@ -85,6 +86,7 @@ impl Part {
         )
     }
 
+    /// The part in words, for tables and plots.
     pub fn describe(self) -> String {
         match self {
             Self::SpanTransverse(k) => format!("span {k} transverse"),
@@ -108,6 +110,7 @@ pub struct Mode {
     pub damping_ratio: f64,
     /// Damped frequency Im(lambda) / 2 pi [Hz].
     pub damped_hz: f64,
+    /// The part of the drive with the largest share of the mode's kinetic energy.
     pub part: Part,
     /// Share of the mode's kinetic energy in `part`.
     pub share: f64,
@@ -136,7 +139,9 @@ pub struct Modes {
 /// Where a body is: on pulley j's wrap or on span k (0-based).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Region {
+    /// On pulley j's wrap.
     Wrap(usize),
+    /// On span k.
     Span(usize),
 }
 

@@ -48,6 +48,7 @@ pub struct PulleyConst {
     pub decoupler: Option<Decoupler>,
     /// Rotor moment of inertia behind the decoupler [kg m^2] and its inverse.
     pub rotor_inertia: f64,
+    /// 1 / rotor inertia [1/(kg m^2)].
     pub rotor_inv_inertia: f64,
     /// Offset of the decoupler's states [twist, rotor speed] in the state.
     pub decoupler_offset: usize,
