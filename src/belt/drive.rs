@@ -9,7 +9,7 @@ use super::model::{
     BeltSystem, Inputs, NoRecord, Recorder, Relaxation, Workspace, BODY_DOF, IMPULSES,
 };
 use super::param_id::{msg, Message, Param, Part};
-use super::params::{DriveParams, Method, ParamError, MAX_PULLEYS};
+use super::params::{DriveParams, Method, ParamError, MAX_PULLEYS, PROBE_AUTO};
 use super::rkf45::Rkf45;
 use super::rosenbrock::{Rosenbrock, StiffSystem};
 use super::solver_params::TUNING;
@@ -258,6 +258,9 @@ pub struct Outputs {
     pub probe: ProbeOutputs,
     /// Power dissipated at this instant [W].
     pub power_dissipated: f64,
+    /// Power dissipated in the belt alone (>= 0): SDE dampers, contact
+    /// damping and friction slip, without the creep springs' stored power.
+    pub belt_power_loss: f64,
     /// Energy dissipated since the start [J].
     pub energy_dissipated: f64,
     /// Work done by the drives and input torques since the start [J].
@@ -317,6 +320,9 @@ impl Recorder for OutputRecorder<'_> {
     }
     fn power(&mut self, _input: f64, dissipated: f64) {
         self.out.power_dissipated = dissipated;
+    }
+    fn belt_loss(&mut self, p: f64) {
+        self.out.belt_power_loss += p;
     }
 }
 
@@ -452,6 +458,24 @@ pub struct Drive {
     dy: Vec<f64>,
     tensions: Vec<f64>,
     warnings: Vec<Message>,
+    /// The probe body (0-based), chosen by `auto_probe` for `PROBE_AUTO`.
+    probe: usize,
+}
+
+/// The probe body [`PROBE_AUTO`] stands for: the body whose centre lies
+/// nearest the middle of the free span from pulley 1 to pulley 2 in the
+/// mounted belt. It starts free, in a span with a defined tension, so its
+/// forces (Figs. 15-18) show a whole passage: span, pulley 2, the next span,
+/// ...; and it exists for any body count.
+fn auto_probe(layout: &Layout) -> usize {
+    let Some(span) = layout.span_between(0, 1) else {
+        return 0;
+    };
+    let m = span.midpoint();
+    let d = |b: &super::layout::BodyPose| (b.x - m[0]).hypot(b.y - m[1]);
+    (0..layout.bodies.len())
+        .min_by(|&a, &b| d(&layout.bodies[a]).total_cmp(&d(&layout.bodies[b])))
+        .unwrap_or(0)
 }
 
 /// Damping ratio of the radial contact mode at the equilibrium penetration
@@ -556,6 +580,11 @@ impl Drive {
         }
         let integrator = Integrator::new(&sys, params);
         let warnings = warnings(params, &layout, &sys);
+        let probe = if params.probe_body == PROBE_AUTO {
+            auto_probe(&layout)
+        } else {
+            params.probe_body
+        };
         let mut drive = Self {
             params: params.clone(),
             layout,
@@ -571,6 +600,7 @@ impl Drive {
             dy: vec![0.0; dim],
             tensions: vec![0.0; params.belt.n_bodies],
             warnings,
+            probe,
         };
         drive.set_inputs(Inputs {
             t0,
@@ -583,6 +613,12 @@ impl Drive {
     /// messages naming the parameter and a better value.
     pub fn warnings(&self) -> &[Message] {
         &self.warnings
+    }
+
+    /// The probe body (0-based): `params().probe_body`, or the one chosen
+    /// for [`PROBE_AUTO`] (`auto_probe`).
+    pub fn probe_body(&self) -> usize {
+        self.probe
     }
 
     /// The parameters the drive was built from.
@@ -678,7 +714,7 @@ impl Drive {
             let mut rec = OutputRecorder {
                 out: &mut out,
                 tensions: &mut self.tensions,
-                probe: self.params.probe_body,
+                probe: self.probe,
                 span_mid,
                 n_spans: np,
                 span_best: [f64::INFINITY; MAX_PULLEYS],
@@ -692,7 +728,7 @@ impl Drive {
             .iter()
             .copied()
             .fold(f64::NEG_INFINITY, f64::max);
-        let p = self.params.probe_body;
+        let p = self.probe;
         out.probe.position = [self.y[BODY_DOF * p], self.y[BODY_DOF * p + 1]];
         let surface = |j: usize| {
             let w = self.sys.pulley_speed(j, self.t, &self.y);

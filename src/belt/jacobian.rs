@@ -546,7 +546,7 @@ impl BeltSystem {
                     [x[0] - cx, x[1] - cy],
                     v,
                     pc.radius,
-                    omega_p[j] * pc.radius,
+                    omega_p[j] * pc.lever,
                 );
                 if kin.d2 >= pc.radius2 {
                     continue;
@@ -562,7 +562,7 @@ impl BeltSystem {
                     normal,
                     self.friction
                         .coefficient_jac(kin.v_t, z, pc.mu_s * zf, pc.mu_k * zf),
-                    pc.radius,
+                    pc.lever,
                 );
                 let creeping = self.friction.creep_rate_slope(kin.v_t, z) != 0.0;
                 if pc.arm.is_some() {
@@ -600,8 +600,8 @@ impl BeltSystem {
                     aj.fr -= f_r;
                     if !pc.speed_driven {
                         aj.aw -= dc.dot(&tau) * cp.fric_w * inv;
-                        // the pulley's torque -r f through the moving centre
-                        let k = -pc.radius * pc.balance_partials().1;
+                        // the pulley's torque -r_c f through the moving centre
+                        let k = -pc.lever * pc.balance_partials().1;
                         aj.pa -=
                             k * (cp.fric_x.dot(&dc.transpose()) + cp.fric_v.dot(&ddc.transpose()));
                         aj.pr -= k * cp.fric_v.dot(&dc.transpose());
@@ -624,11 +624,11 @@ impl BeltSystem {
                     b.gv[0] += cp.vt_v[0];
                     b.gv[1] += cp.vt_v[1];
                     if free {
-                        b.gw[j] += pc.radius;
+                        b.gw[j] += pc.lever;
                     }
                 }
                 // impulse rows: belt torque -r f, hub force -(N n + f t)
-                let r = pc.radius;
+                let r = pc.lever;
                 let tv2 = Vector2::new(tau[0], tau[1]);
                 b.tq[j] = -r * cp.fric_x;
                 b.tv[j] = -r * cp.fric_v;
@@ -642,7 +642,7 @@ impl BeltSystem {
                 }
                 // pulley torque -r f on the pulley's acceleration (eq. 24)
                 if free {
-                    let k = -pc.radius * pc.balance_partials().1;
+                    let k = -pc.lever * pc.balance_partials().1;
                     b.pq[j] = RowVector3::new(k * cp.fric_x[0], k * cp.fric_x[1], 0.0);
                     b.pv[j] = RowVector3::new(k * cp.fric_v[0], k * cp.fric_v[1], 0.0);
                     b.pz[j] = k * cp.fric_z;
@@ -904,7 +904,7 @@ mod tests {
                     let nrm = r.normalize();
                     let tau = perp(nrm);
                     let w = sys.pulley_speed(j, 0.02, &y);
-                    let v = (w * pc.radius - 3e-3) * tau + 0.01 * nrm;
+                    let v = (w * pc.lever - 3e-3) * tau + 0.01 * nrm;
                     y[o + 3] = v.x;
                     y[o + 4] = v.y;
                 }

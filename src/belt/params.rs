@@ -239,9 +239,15 @@ pub struct DriveParams {
     pub solver: SolverParams,
     /// [m/s^2], acting in -y.
     pub gravity: f64,
-    /// Body (0-based) whose forces the probe outputs report.
+    /// Body (0-based) whose forces the probe outputs report, or
+    /// [`PROBE_AUTO`]: the body nearest the middle of the free span from
+    /// pulley 1 to pulley 2 in the mounted belt (`Drive::probe_body`).
     pub probe_body: usize,
 }
+
+/// `probe_body` value that lets the drive choose the probe body (the FMU's
+/// `probe.body` = 0): any body count is then valid.
+pub const PROBE_AUTO: usize = usize::MAX;
 
 /// Body length of the paper's section-4 mesh (1.2 m belt, 150 bodies), used
 /// to turn its per-element figures into per-length belt properties.
@@ -294,7 +300,7 @@ impl DriveParams {
             friction: FrictionParams::default(),
             solver: SolverParams::default(),
             gravity: 9.81,
-            probe_body: 107,
+            probe_body: PROBE_AUTO,
         }
     }
 
@@ -511,11 +517,11 @@ impl DriveParams {
             ));
         }
         non_negative(Param::Gravity, self.gravity)?;
-        if self.probe_body >= b.n_bodies {
+        if self.probe_body != PROBE_AUTO && self.probe_body >= b.n_bodies {
             return Err(param_error(
                 Param::ProbeBody,
                 format!(
-                    "must be in 1..={} (got {})",
+                    "must be in 1..={} or 0 (chosen automatically; got {})",
                     b.n_bodies,
                     self.probe_body + 1
                 ),
