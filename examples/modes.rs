@@ -5,10 +5,13 @@
 //!
 //! ```text
 //! cargo run --release --features modes --example modes -- [--ssv FILE] [--set NAME=VALUE ...]
-//!     [--speeds FROM:TO:N] [--at TIME] [--fmax HZ] [--out FILE]
+//!     [--speeds FROM:TO:N] [--at TIME] [--fmax HZ] [--out FILE] [--floquet]
 //! ```
+//!
+//! `--floquet`: at running speeds, the Floquet analysis over one
+//! body-passing period instead of the frozen-time one.
 
-use belt_drive::modes::{adapter, analyse, params, Modes, Options};
+use belt_drive::modes::{adapter, analyse, floquet, params, Modes, Options, FLOQUET_SUBSTEPS};
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -21,10 +24,11 @@ struct Args {
     at: Option<f64>,
     fmax: f64,
     out: PathBuf,
+    floquet: bool,
 }
 
 const USAGE: &str = "usage: modes [--ssv FILE] [--set NAME=VALUE ...] [--speeds FROM:TO:N] \
-                     [--at TIME] [--fmax HZ] [--out FILE]";
+                     [--at TIME] [--fmax HZ] [--out FILE] [--floquet]";
 
 fn parse() -> Result<Args, String> {
     let mut a = Args {
@@ -34,6 +38,7 @@ fn parse() -> Result<Args, String> {
         at: None,
         fmax: 2000.0,
         out: PathBuf::from("dist/modes.csv"),
+        floquet: false,
     };
     let mut it = std::env::args().skip(1);
     while let Some(k) = it.next() {
@@ -50,6 +55,7 @@ fn parse() -> Result<Args, String> {
             "--at" => a.at = Some(num(val()?, "--at")?),
             "--fmax" => a.fmax = num(val()?, "--fmax")?,
             "--out" => a.out = PathBuf::from(val()?),
+            "--floquet" => a.floquet = true,
             "--speeds" => {
                 let s = val()?;
                 let p: Vec<&str> = s.split(':').collect();
@@ -117,7 +123,11 @@ fn run() -> Result<(), String> {
         let t_run = t0.elapsed().as_secs_f64();
         let lin = adapter::linearise(&drive);
         let t1 = Instant::now();
-        let modes = analyse(&lin, &o)?;
+        let modes = if a.floquet && o.transport {
+            floquet(&mut drive, &o, FLOQUET_SUBSTEPS)?
+        } else {
+            analyse(&lin, &o)?
+        };
         let w = speed.unwrap_or(0.0);
         eprintln!(
             "speed {w:.1} rad/s at t = {at} s: {} modes up to {} Hz, {} above; {} zero modes, \

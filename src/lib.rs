@@ -1,3 +1,4 @@
+#![warn(missing_docs)]
 //! BeltDrive: the planar discrete belt-drive model of K. Kubas (2014) as an
 //! FMI 2.0 Co-Simulation FMU.
 //!

@@ -9,7 +9,7 @@ use super::model::{
     BeltSystem, Inputs, NoRecord, Recorder, Relaxation, Workspace, BODY_DOF, IMPULSES,
 };
 use super::param_id::{msg, Message, Param, Part};
-use super::params::{DriveParams, Method, ParamError, MAX_PULLEYS};
+use super::params::{DriveParams, Method, ParamError, MAX_PULLEYS, PROBE_AUTO};
 use super::rkf45::Rkf45;
 use super::rosenbrock::{Rosenbrock, StiffSystem};
 use super::solver_params::TUNING;
@@ -61,26 +61,12 @@ impl StiffSystem for BeltSystem {
     }
     /// Body angles and spins carry only the damped artificial modes: weight
     /// 1e-3 (not left out altogether, so a step that goes unstable in them is
-    /// still rejected). With the creep law the body velocities carry those
-    /// modes too, but also the creep velocities that set the slip: weight
-    /// 1e-2 (1e-3 let the 5PK slip drift 5 % from RKF45's, 1e-2 0.3 %, for
-    /// 28 % more steps; docs/model.md), and never looser than a relative
-    /// tolerance of 1e-2 on them: at relTol 1e-3 a weight of 1e-2 let the
-    /// steps lose the creep arcs (`SolverTuning::creep_velocity_max_rel_tol`).
-    /// With `kubas2014` friction follows the sliding velocity itself, and a
-    /// step that jumps across the stick band |v_T| < dv lands on the sliding
-    /// branch, whose linearisation has no friction slope: the velocities keep
-    /// full weight.
+    /// still rejected). The body velocities' weight is the friction law's
+    /// (`Friction::velocity_error_weight`).
     fn error_mask(&self, rel_tol: f64, mask: &mut [f64]) {
         const ANGLES: f64 = TUNING.weight_angles;
         mask.fill(1.0);
-        let velocities = match self.friction.law {
-            super::params::FrictionLaw::Creep => TUNING
-                .weight_creep_velocities
-                .max(rel_tol / TUNING.creep_velocity_max_rel_tol)
-                .min(1.0),
-            super::params::FrictionLaw::Kubas2014 => 1.0,
-        };
+        let velocities = self.friction.velocity_error_weight(rel_tol);
         for body in mask[..BODY_DOF * self.n].chunks_exact_mut(BODY_DOF) {
             body[2] = ANGLES;
             body[5] = ANGLES;
@@ -96,7 +82,9 @@ impl StiffSystem for BeltSystem {
 #[derive(Clone, Debug, PartialEq)]
 #[allow(clippy::large_enum_variant)] // one per drive: its size does not matter
 pub enum Integrator {
+    /// Runge-Kutta-Fehlberg 4(5) (`solver.method` 1).
     Rkf45(Rkf45),
+    /// The stiff Rosenbrock-W method (`solver.method` 2).
     Rosenbrock(Rosenbrock<BeltSystem>),
 }
 
@@ -150,6 +138,7 @@ impl Integrator {
         }
     }
 
+    /// Counters of the work done (cumulative).
     pub fn stats(&self) -> Stats {
         self.control().stats
     }
@@ -186,8 +175,11 @@ impl Integrator {
 /// Per-pulley outputs.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PulleyOutputs {
+    /// Angle of rotation [rad].
     pub angle: f64,
+    /// Angular speed [rad/s].
     pub omega: f64,
+    /// Angular acceleration [rad/s^2].
     pub alpha: f64,
     /// Torque the belt exerts on the pulley [N m].
     pub belt_torque: f64,
@@ -198,24 +190,32 @@ pub struct PulleyOutputs {
     /// Means over the last communication step (see [`Window`]): belt torque
     /// and drive torque [N m], force on the hub [N], acceleration [rad/s2].
     pub mean_belt_torque: f64,
+    /// Mean drive torque [N m].
     pub mean_drive_torque: f64,
+    /// Mean force on the hub [N].
     pub mean_hub_force: [f64; 2],
+    /// Mean acceleration [rad/s2].
     pub mean_alpha: f64,
     /// 1 - v_j / v_1: surface speed loss relative to pulley 1.
     pub slip: f64,
+    /// Wrap angle of the mounted belt on the pulley [rad].
     pub wrap_angle: f64,
     /// Speed of the rotor behind a decoupler (the pulley's speed without
     /// one) [rad/s], and the torque the decoupler's clutch transmits in its
     /// driving sense (>= 0; 0 without one) [N m].
     pub rotor_omega: f64,
+    /// Torque the decoupler's clutch transmits [N m] (see `rotor_omega`).
     pub decoupler_torque: f64,
     /// Tensioner arm (zero without one): angle from the mounted position
     /// (counterclockwise positive) [rad], its rate [rad/s], the spring's
     /// torque on the arm [N m] and the spring's free angle found by the
     /// mounting [rad].
     pub arm_angle: f64,
+    /// Tensioner arm's angular rate [rad/s] (see `arm_angle`).
     pub arm_omega: f64,
+    /// Torque of the tensioner spring on the arm [N m].
     pub arm_spring_torque: f64,
+    /// Free angle of the tensioner spring found by the mounting [rad].
     pub arm_free_angle: f64,
 }
 
@@ -224,14 +224,20 @@ pub struct PulleyOutputs {
 pub struct ProbeOutputs {
     /// Force in the translational SDE at the probe body's left end (Fig. 15).
     pub sde_force: f64,
+    /// Centre of the probe body [m].
     pub position: [f64; 2],
+    /// Normal contact force on the probe body from pulley j [N] (Fig. 16).
     pub normal_force: [f64; MAX_PULLEYS],
+    /// Friction force on the probe body from pulley j, along the pulley's tangent [N] (Fig. 17).
     pub friction_force: [f64; MAX_PULLEYS],
+    /// Relative velocity v_T of pulley j's surface and the probe body [m/s] (Fig. 18).
     pub slip_velocity: [f64; MAX_PULLEYS],
 }
 
 #[derive(Clone, Debug, Default, PartialEq)]
+/// Every output of the drive at one instant.
 pub struct Outputs {
+    /// Per pulley, in pulley order.
     pub pulleys: [PulleyOutputs; MAX_PULLEYS],
     /// Tension of the middle SDE of the free span from pulley k to k+1.
     pub span_tension: [f64; MAX_PULLEYS],
@@ -242,14 +248,26 @@ pub struct Outputs {
     /// from the straight common tangent of the mounted path [m], positive
     /// to the left of the travel from pulley k to k+1, and its rate [m/s].
     pub span_mid_deflection: [f64; MAX_PULLEYS],
+    /// Rate of `span_mid_deflection` [m/s].
     pub span_mid_deflection_rate: [f64; MAX_PULLEYS],
+    /// Smallest tension of any translational SDE [N].
     pub min_tension: f64,
+    /// Largest tension of any translational SDE [N].
     pub max_tension: f64,
+    /// Forces on and position of the probe body.
     pub probe: ProbeOutputs,
+    /// Power dissipated at this instant [W].
     pub power_dissipated: f64,
+    /// Power dissipated in the belt alone (>= 0): SDE dampers, contact
+    /// damping and friction slip, without the creep springs' stored power.
+    pub belt_power_loss: f64,
+    /// Energy dissipated since the start [J].
     pub energy_dissipated: f64,
+    /// Work done by the drives and input torques since the start [J].
     pub energy_input: f64,
+    /// Kinetic energy of bodies, pulleys, rotors and arms [J].
     pub kinetic_energy: f64,
+    /// Elastic and gravitational energy [J].
     pub potential_energy: f64,
 }
 
@@ -302,6 +320,9 @@ impl Recorder for OutputRecorder<'_> {
     }
     fn power(&mut self, _input: f64, dissipated: f64) {
         self.out.power_dissipated = dissipated;
+    }
+    fn belt_loss(&mut self, p: f64) {
+        self.out.belt_power_loss += p;
     }
 }
 
@@ -437,6 +458,24 @@ pub struct Drive {
     dy: Vec<f64>,
     tensions: Vec<f64>,
     warnings: Vec<Message>,
+    /// The probe body (0-based), chosen by `auto_probe` for `PROBE_AUTO`.
+    probe: usize,
+}
+
+/// The probe body [`PROBE_AUTO`] stands for: the body whose centre lies
+/// nearest the middle of the free span from pulley 1 to pulley 2 in the
+/// mounted belt. It starts free, in a span with a defined tension, so its
+/// forces (Figs. 15-18) show a whole passage: span, pulley 2, the next span,
+/// ...; and it exists for any body count.
+fn auto_probe(layout: &Layout) -> usize {
+    let Some(span) = layout.span_between(0, 1) else {
+        return 0;
+    };
+    let m = span.midpoint();
+    let d = |b: &super::layout::BodyPose| (b.x - m[0]).hypot(b.y - m[1]);
+    (0..layout.bodies.len())
+        .min_by(|&a, &b| d(&layout.bodies[a]).total_cmp(&d(&layout.bodies[b])))
+        .unwrap_or(0)
 }
 
 /// Damping ratio of the radial contact mode at the equilibrium penetration
@@ -541,6 +580,11 @@ impl Drive {
         }
         let integrator = Integrator::new(&sys, params);
         let warnings = warnings(params, &layout, &sys);
+        let probe = if params.probe_body == PROBE_AUTO {
+            auto_probe(&layout)
+        } else {
+            params.probe_body
+        };
         let mut drive = Self {
             params: params.clone(),
             layout,
@@ -556,6 +600,7 @@ impl Drive {
             dy: vec![0.0; dim],
             tensions: vec![0.0; params.belt.n_bodies],
             warnings,
+            probe,
         };
         drive.set_inputs(Inputs {
             t0,
@@ -570,27 +615,41 @@ impl Drive {
         &self.warnings
     }
 
+    /// The probe body (0-based): `params().probe_body`, or the one chosen
+    /// for [`PROBE_AUTO`] (`auto_probe`).
+    pub fn probe_body(&self) -> usize {
+        self.probe
+    }
+
+    /// The parameters the drive was built from.
     pub fn params(&self) -> &DriveParams {
         &self.params
     }
+    /// The mounted belt path.
     pub fn layout(&self) -> &Layout {
         &self.layout
     }
+    /// The equations of motion (constants and inputs).
     pub fn system(&self) -> &BeltSystem {
         &self.sys
     }
+    /// Current time [s].
     pub fn time(&self) -> f64 {
         self.t
     }
+    /// Current state vector (layout in `model`).
     pub fn state(&self) -> &[f64] {
         &self.y
     }
+    /// Counters of the work done (cumulative).
     pub fn stats(&self) -> Stats {
         self.integrator.stats()
     }
+    /// The integrator and its step control.
     pub fn integrator(&self) -> &Integrator {
         &self.integrator
     }
+    /// The inputs held over the current step.
     pub fn inputs(&self) -> &Inputs {
         &self.sys.inputs
     }
@@ -655,7 +714,7 @@ impl Drive {
             let mut rec = OutputRecorder {
                 out: &mut out,
                 tensions: &mut self.tensions,
-                probe: self.params.probe_body,
+                probe: self.probe,
                 span_mid,
                 n_spans: np,
                 span_best: [f64::INFINITY; MAX_PULLEYS],
@@ -669,7 +728,7 @@ impl Drive {
             .iter()
             .copied()
             .fold(f64::NEG_INFINITY, f64::max);
-        let p = self.params.probe_body;
+        let p = self.probe;
         out.probe.position = [self.y[BODY_DOF * p], self.y[BODY_DOF * p + 1]];
         let surface = |j: usize| {
             let w = self.sys.pulley_speed(j, self.t, &self.y);

@@ -64,18 +64,31 @@ pub struct Factors<const NB: usize> {
 #[derive(Clone, Debug, PartialEq)]
 #[allow(clippy::large_enum_variant)] // one per drive: its size does not matter
 pub enum IterationMatrix {
+    /// Border of 3 unknowns.
     B3(Factors<3>),
+    /// Border of 4 unknowns.
     B4(Factors<4>),
+    /// Border of 5 unknowns.
     B5(Factors<5>),
+    /// Border of 6 unknowns.
     B6(Factors<6>),
+    /// Border of 7 unknowns.
     B7(Factors<7>),
+    /// Border of 8 unknowns.
     B8(Factors<8>),
+    /// Border of 9 unknowns.
     B9(Factors<9>),
+    /// Border of 10 unknowns.
     B10(Factors<10>),
+    /// Border of 11 unknowns.
     B11(Factors<11>),
+    /// Border of 12 unknowns.
     B12(Factors<12>),
+    /// Border of 13 unknowns.
     B13(Factors<13>),
+    /// Border of 14 unknowns.
     B14(Factors<14>),
+    /// Border of 15 unknowns.
     B15(Factors<15>),
 }
 
@@ -102,6 +115,7 @@ macro_rules! each {
 }
 
 impl IterationMatrix {
+    /// Storage for the iteration matrix of `sys` (border size from its free pulleys, decouplers and arms).
     pub fn new(sys: &BeltSystem) -> Self {
         let free = (0..sys.np)
             .filter(|&j| !sys.pulleys[j].speed_driven)

@@ -48,21 +48,29 @@ pub struct BodyJacobian {
     pub aw: [Vector3<f64>; MAX_PULLEYS],
     /// dz'/d(own position), dz'/d(own velocity), dz'/d(pulley speed j).
     pub gq: RowVector3<f64>,
+    /// dz'/d(own velocity).
     pub gv: RowVector3<f64>,
+    /// dz'/d(pulley speed j).
     pub gw: [f64; MAX_PULLEYS],
     /// d(pulley j acceleration)/d(this body's position, velocity, z).
     pub pq: [RowVector3<f64>; MAX_PULLEYS],
+    /// d(pulley j acceleration)/d(this body's velocity).
     pub pv: [RowVector3<f64>; MAX_PULLEYS],
+    /// d(pulley j acceleration)/d(this body's z).
     pub pz: [f64; MAX_PULLEYS],
     /// d(belt torque on pulley j)/d(this body's position, velocity, z): the
     /// rows of the belt-torque impulse (all pulleys, speed-driven too).
     pub tq: [RowVector2<f64>; MAX_PULLEYS],
+    /// d(belt torque on pulley j)/d(this body's velocity).
     pub tv: [RowVector2<f64>; MAX_PULLEYS],
+    /// d(belt torque on pulley j)/d(this body's z).
     pub tz: [f64; MAX_PULLEYS],
     /// d(force on pulley j's hub)/d(this body's position, velocity, z): the
     /// rows of the hub-force impulse.
     pub hq: [Matrix2<f64>; MAX_PULLEYS],
+    /// d(force on pulley j's hub)/d(this body's velocity).
     pub hv: [Matrix2<f64>; MAX_PULLEYS],
+    /// d(force on pulley j's hub)/d(this body's z).
     pub hz: [Vector2<f64>; MAX_PULLEYS],
     /// Bit j set: the body touches pulley j (only those entries are non-zero).
     pub touching: u8,
@@ -77,18 +85,24 @@ pub struct BodyJacobian {
 pub struct DecouplerJacobian {
     /// d(twist')/d(twist, omega_hub, omega_rotor).
     pub tt: f64,
+    /// d(twist')/d(omega_hub).
     pub th: f64,
+    /// d(twist')/d(omega_rotor).
     pub tr: f64,
     /// d(rotor alpha)/d(twist, omega_hub, omega_rotor).
     pub rt: f64,
+    /// d(rotor alpha)/d(omega_hub).
     pub rh: f64,
+    /// d(rotor alpha)/d(omega_rotor).
     pub rr: f64,
     /// d(hub alpha)/d(twist, omega_rotor).
     pub ht: f64,
+    /// d(hub alpha)/d(omega_rotor).
     pub hr: f64,
     /// d(drive torque)/d(twist, omega_rotor) of a speed-driven hub (the
     /// drive-torque impulse's row; zero on a torque-driven hub).
     pub dt: f64,
+    /// d(drive torque)/d(omega_rotor).
     pub dr: f64,
 }
 
@@ -102,16 +116,22 @@ pub struct DecouplerJacobian {
 pub struct ArmJacobian {
     /// d(arm acceleration)/d(angle, rate, pulley speed).
     pub aa: f64,
+    /// d(arm acceleration)/d(rate).
     pub ar: f64,
+    /// d(arm acceleration)/d(pulley speed).
     pub aw: f64,
     /// d(pulley acceleration)/d(arm angle, arm rate).
     pub pa: f64,
+    /// d(pulley acceleration)/d(arm rate).
     pub pr: f64,
     /// d(belt torque on the pulley)/d(arm angle, arm rate) and d(force on its
     /// hub)/d(arm angle, arm rate): the impulse rows' arm columns.
     pub ta: f64,
+    /// d(belt torque on the pulley)/d(arm rate).
     pub tr: f64,
+    /// d(force on the hub)/d(arm angle).
     pub fa: Vector2<f64>,
+    /// d(force on the hub)/d(arm rate).
     pub fr: Vector2<f64>,
 }
 
@@ -122,19 +142,24 @@ pub struct ArmJacobian {
 pub struct BodyArmJacobian {
     /// d(acceleration)/d(arm angle), d(acceleration)/d(arm rate).
     pub aa: [Vector3<f64>; MAX_PULLEYS],
+    /// d(acceleration)/d(arm rate).
     pub ar: [Vector3<f64>; MAX_PULLEYS],
     /// dz'/d(arm angle), dz'/d(arm rate).
     pub ga: [f64; MAX_PULLEYS],
+    /// dz'/d(arm rate).
     pub gr: [f64; MAX_PULLEYS],
     /// d(arm acceleration)/d(this body's position, velocity, z).
     pub rq: [RowVector3<f64>; MAX_PULLEYS],
+    /// d(arm acceleration)/d(this body's velocity).
     pub rv: [RowVector3<f64>; MAX_PULLEYS],
+    /// d(arm acceleration)/d(this body's z).
     pub rz: [f64; MAX_PULLEYS],
 }
 
 /// Block Jacobian of the whole belt drive.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Jacobian {
+    /// Per body, its rows.
     pub bodies: Vec<BodyJacobian>,
     /// d(pulley j acceleration)/d(pulley speed k), torque-driven pulleys.
     pub pw: [[f64; MAX_PULLEYS]; MAX_PULLEYS],
@@ -145,6 +170,7 @@ pub struct Jacobian {
     /// d(belt torque on pulley j)/d(omega_j) and d(hub force j)/d(omega_j),
     /// torque-driven pulleys (a speed-driven pulley's speed is an input).
     pub tw: [f64; MAX_PULLEYS],
+    /// d(hub force j)/d(omega_j).
     pub hw: [Vector2<f64>; MAX_PULLEYS],
     /// The input power's row (the `energy.input` accumulator): per pulley
     /// the prescribed speed a speed-driven pulley's drive torque is
@@ -160,7 +186,9 @@ pub struct Jacobian {
 
 /// Index of the neighbour blocks in `aq`/`av`.
 pub const PREV: usize = 0;
+/// Index of the body's own block in `aq`/`av`.
 pub const SELF: usize = 1;
+/// Index of the next body's block in `aq`/`av`.
 pub const NEXT: usize = 2;
 
 #[inline(always)]
@@ -169,6 +197,7 @@ fn perp(h: Vector2<f64>) -> Vector2<f64> {
 }
 
 impl Jacobian {
+    /// Zero Jacobian shaped for `sys`.
     pub fn new(sys: &BeltSystem) -> Self {
         let mut free = [false; MAX_PULLEYS];
         for (j, f) in free.iter_mut().enumerate().take(sys.np) {
@@ -548,7 +577,7 @@ impl BeltSystem {
                     [x[0] - cx, x[1] - cy],
                     v,
                     pc.radius,
-                    omega_p[j] * pc.radius,
+                    omega_p[j] * pc.lever,
                 );
                 if kin.d2 >= pc.radius2 {
                     continue;
@@ -564,7 +593,7 @@ impl BeltSystem {
                     normal,
                     self.friction
                         .coefficient_jac(kin.v_t, z, pc.mu_s * zf, pc.mu_k * zf),
-                    pc.radius,
+                    pc.lever,
                 );
                 let creeping = self.friction.creep_rate_slope(kin.v_t, z) != 0.0;
                 if pc.arm.is_some() {
@@ -602,8 +631,8 @@ impl BeltSystem {
                     aj.fr -= f_r;
                     if !pc.speed_driven {
                         aj.aw -= dc.dot(&tau) * cp.fric_w * inv;
-                        // the pulley's torque -r f through the moving centre
-                        let k = -pc.radius * pc.balance_partials().1;
+                        // the pulley's torque -r_c f through the moving centre
+                        let k = -pc.lever * pc.balance_partials().1;
                         aj.pa -=
                             k * (cp.fric_x.dot(&dc.transpose()) + cp.fric_v.dot(&ddc.transpose()));
                         aj.pr -= k * cp.fric_v.dot(&dc.transpose());
@@ -626,11 +655,11 @@ impl BeltSystem {
                     b.gv[0] += cp.vt_v[0];
                     b.gv[1] += cp.vt_v[1];
                     if free {
-                        b.gw[j] += pc.radius;
+                        b.gw[j] += pc.lever;
                     }
                 }
                 // impulse rows: belt torque -r f, hub force -(N n + f t)
-                let r = pc.radius;
+                let r = pc.lever;
                 let tv2 = Vector2::new(tau[0], tau[1]);
                 b.tq[j] = -r * cp.fric_x;
                 b.tv[j] = -r * cp.fric_v;
@@ -644,7 +673,7 @@ impl BeltSystem {
                 }
                 // pulley torque -r f on the pulley's acceleration (eq. 24)
                 if free {
-                    let k = -pc.radius * pc.balance_partials().1;
+                    let k = -pc.lever * pc.balance_partials().1;
                     b.pq[j] = RowVector3::new(k * cp.fric_x[0], k * cp.fric_x[1], 0.0);
                     b.pv[j] = RowVector3::new(k * cp.fric_v[0], k * cp.fric_v[1], 0.0);
                     b.pz[j] = k * cp.fric_z;
@@ -907,7 +936,7 @@ mod tests {
                     let nrm = r.normalize();
                     let tau = perp(nrm);
                     let w = sys.pulley_speed(j, 0.02, &y);
-                    let v = (w * pc.radius - 3e-3) * tau + 0.01 * nrm;
+                    let v = (w * pc.lever - 3e-3) * tau + 0.01 * nrm;
                     y[o + 3] = v.x;
                     y[o + 4] = v.y;
                 }

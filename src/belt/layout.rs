@@ -21,15 +21,20 @@ use std::f64::consts::TAU;
 pub struct Span {
     /// Pulley (index into `DriveParams::pulleys`) the span leaves and reaches.
     pub from: usize,
+    /// Pulley the span reaches.
     pub to: usize,
+    /// Tangent point where the span leaves `from` [m].
     pub start: [f64; 2],
+    /// Tangent point where the span reaches `to` [m].
     pub end: [f64; 2],
     /// Direction angle of travel (loop order) [rad].
     pub angle: f64,
+    /// Free length [m].
     pub length: f64,
 }
 
 impl Span {
+    /// Mid-point of the span [m].
     pub fn midpoint(&self) -> [f64; 2] {
         [
             0.5 * (self.start[0] + self.end[0]),
@@ -41,6 +46,7 @@ impl Span {
 /// The wrap of the belt on one pulley.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Wrap {
+    /// The pulley (index into `DriveParams::pulleys`).
     pub pulley: usize,
     /// +1 inside the loop (counterclockwise wrap), -1 back-side idler.
     pub side: f64,
@@ -57,13 +63,16 @@ pub struct Wrap {
 /// Initial pose of one body.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BodyPose {
+    /// Centre x [m].
     pub x: f64,
+    /// Centre y [m].
     pub y: f64,
     /// Orientation, continuous along the loop (grows by 2*pi once around).
     pub phi: f64,
 }
 
 #[derive(Clone, Debug, PartialEq)]
+/// The mounted belt: path around the pulleys and the bodies placed on it.
 pub struct Layout {
     /// Spans in loop order; `spans[m]` leaves `wraps[m].pulley`... see `span_of_pair`.
     pub spans: Vec<Span>,
@@ -73,6 +82,7 @@ pub struct Layout {
     pub body_length: f64,
     /// Length of the belt path through the contact line [m].
     pub path_length: f64,
+    /// Mounted pose of every body, in belt order.
     pub bodies: Vec<BodyPose>,
 }
 
@@ -270,12 +280,48 @@ impl Layout {
     /// Builds the belt path and the mounted belt. `params` must have passed
     /// [`DriveParams::validate`].
     pub fn new(params: &DriveParams) -> Result<Self, ParamError> {
+        Self::build(params, true)
+    }
+
+    /// [`new`](Self::new); `diagnose` lets a refusal for a coarse mesh try
+    /// the other wrap side of the pulley (once: not when called for that).
+    fn build(params: &DriveParams, diagnose: bool) -> Result<Self, ParamError> {
         let np = params.pulleys.len();
         for a in 0..np {
             for b in a + 1..np {
                 let (pa, pb) = (&params.pulleys[a], &params.pulleys[b]);
                 let dist = (pb.x - pa.x).hypot(pb.y - pa.y);
                 if dist <= pa.radius + pb.radius {
+                    // A radius that alone reaches the other pulley's centre
+                    // and is ten times the other's is the implausible number
+                    // (typically typed in millimetres), not the position.
+                    let (k, r, r_other) = if pa.radius >= pb.radius {
+                        (a, pa.radius, pb.radius)
+                    } else {
+                        (b, pb.radius, pa.radius)
+                    };
+                    if r >= dist && r >= 10.0 * r_other {
+                        let other = if k == a { b } else { a };
+                        let unit = if r >= 1.0 {
+                            format!(
+                                "; radii are in metres: if {r} was meant in millimetres, \
+                                 set {}",
+                                r * 1e-3
+                            )
+                        } else {
+                            String::new()
+                        };
+                        return Err(param_error(
+                            Param::PulleyRadius(k),
+                            msg![
+                                format!(
+                                    "{r} m must be less than the centre distance {dist:.4} m to "
+                                ),
+                                Part::Pulley(other),
+                                unit,
+                            ],
+                        ));
+                    }
                     return Err(param_error(
                         Param::PulleyX(b),
                         msg![
@@ -320,6 +366,44 @@ impl Layout {
             if !resolved {
                 let n = params.belt.n_bodies;
                 let r = params.pulleys[w.pulley].radius;
+                // A small wrap may be an idler on the wrong side of the belt:
+                // if the other wrap side gives a drive this mesh resolves,
+                // the flag is the likely mistake.
+                if diagnose {
+                    let mut flipped = params.clone();
+                    let q = &mut flipped.pulleys[w.pulley];
+                    q.back_side = !q.back_side;
+                    if let Ok(other) = Self::build(&flipped, false) {
+                        let side = |b: bool| if b { "true" } else { "false" };
+                        let back = params.pulleys[w.pulley].back_side;
+                        let wrap = other.wrap_of(w.pulley).map_or(0.0, |w| w.angle);
+                        return Err(param_error(
+                            Param::PulleyBackSide(w.pulley),
+                            msg![
+                                format!("with backSide = {} the belt wraps ", side(back)),
+                                Part::Pulley(w.pulley),
+                                format!(
+                                    " by only {:.0} deg, too little for {n} bodies of {:.1} mm; \
+                                     with backSide = {} (the belt's {} on it) it wraps {:.0} deg \
+                                     and the mesh resolves it. Check which side of the belt \
+                                     touches ",
+                                    w.angle.to_degrees(),
+                                    body_length * 1e3,
+                                    side(!back),
+                                    if back { "inner side" } else { "back" },
+                                    wrap.to_degrees(),
+                                ),
+                                Part::Pulley(w.pulley),
+                                format!("; to keep backSide = {} use ", side(back)),
+                                Param::BeltBodies,
+                                format!(
+                                    " >= {}",
+                                    (path_length / (r * (w.angle / 3.0).min(0.5))).ceil() as usize
+                                ),
+                            ],
+                        ));
+                    }
+                }
                 // Longest body that meets both conditions on this wrap.
                 let l_max = r * (w.angle / 3.0).min(0.5);
                 return Err(param_error(
@@ -370,6 +454,7 @@ impl Layout {
         forward.or_else(|| self.spans.iter().find(|s| s.from == b && s.to == a))
     }
 
+    /// The wrap on `pulley`, if the belt wraps it.
     pub fn wrap_of(&self, pulley: usize) -> Option<&Wrap> {
         self.wraps.iter().find(|w| w.pulley == pulley)
     }

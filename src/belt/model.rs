@@ -38,16 +38,22 @@ pub const IMPULSES: usize = 4;
 /// input derivatives), so inputs ramp linearly within the step.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Inputs {
+    /// Time the inputs were set [s].
     pub t0: f64,
+    /// Torque input per pulley at `t0` [N m].
     pub torque: [f64; MAX_PULLEYS],
+    /// Rate of the torque input [N m/s].
     pub torque_rate: [f64; MAX_PULLEYS],
+    /// Speed reference per speed-driven pulley at `t0` [rad/s].
     pub omega_ref: [f64; MAX_PULLEYS],
+    /// Rate of the speed reference [rad/s^2].
     pub omega_ref_rate: [f64; MAX_PULLEYS],
 }
 
 /// Observer of the force evaluation, used for outputs. The hot path uses
 /// [`NoRecord`], whose calls compile away.
 pub trait Recorder {
+    /// False for [`NoRecord`]: the recording code then compiles away.
     const ACTIVE: bool;
     /// Translational SDE `k` (between body k-1 and body k): its tension and
     /// the midpoint of the gap it spans.
@@ -62,9 +68,15 @@ pub trait Recorder {
     /// Per decoupler pulley: the torque its clutch transmits (>= 0, in the
     /// clutch's driving sense) and the rotor's speed.
     fn decoupler(&mut self, _pulley: usize, _torque: f64, _rotor_omega: f64) {}
+    /// Power put in by drives and inputs, and power dissipated [W].
     fn power(&mut self, _input: f64, _dissipated: f64) {}
+    /// A share of the power dissipated in the belt (SDE dampers, contact
+    /// damping, friction slip without the creep springs); the shares of
+    /// one evaluation add up to the belt's loss.
+    fn belt_loss(&mut self, _p: f64) {}
 }
 
+/// The recorder of the hot path: records nothing.
 pub struct NoRecord;
 impl Recorder for NoRecord {
     const ACTIVE: bool = false;
@@ -199,7 +211,7 @@ struct Block {
     cdz: [f64; BLOCK + PAD],
     torque_q: [f64; BLOCK + PAD],
     diss_q: [f64; BLOCK + PAD],
-    rec_q: [[f64; 7]; BLOCK + PAD],
+    rec_q: [[f64; 8]; BLOCK + PAD],
 }
 
 impl Block {
@@ -234,7 +246,7 @@ impl Block {
             cdz: B,
             torque_q: B,
             diss_q: B,
-            rec_q: [[0.0; 7]; BLOCK + PAD],
+            rec_q: [[0.0; 8]; BLOCK + PAD],
         }
     }
 
@@ -352,6 +364,7 @@ fn sum(v: &[f64]) -> f64 {
 }
 
 impl BeltSystem {
+    /// The system of validated `params` on the mounted `layout`.
     pub fn new(params: &DriveParams, layout: &Layout) -> Self {
         let l = layout.body_length;
         let b = &params.belt;
@@ -369,6 +382,7 @@ impl BeltSystem {
                 cy: p.y,
                 radius: p.radius,
                 radius2: p.radius * p.radius,
+                lever: p.radius,
                 inv_inertia: 1.0 / p.inertia,
                 inertia: p.inertia,
                 // the groove's wedge effect (elements::groove)
@@ -916,6 +930,7 @@ impl BeltSystem {
         // dissipation of SDEs i0..i0 + len (each counted in its own block)
         p_diss += sum(&b.diss[..len]);
         if R::ACTIVE {
+            rec.belt_loss(sum(&b.diss[..len]));
             for k in 0..len {
                 let (p, c) = (k, k + 1);
                 let (d, dd) = sde::gap(end(b, p), end(b, c));
@@ -944,7 +959,7 @@ impl BeltSystem {
         }
         let fr = self.friction;
         for (q, pc) in pulleys[..self.np].iter().enumerate() {
-            let surface = omega_p[q] * pc.radius;
+            let surface = omega_p[q] * pc.lever;
             let c = &centre[q];
             let (torque, diss, on_bodies) = if fr.law == FrictionLaw::Creep {
                 self.contacts(b, i0, len, q, pc, c, surface, rec, move |v, z, ms, mk| {
@@ -1046,6 +1061,7 @@ impl BeltSystem {
                 let v = b.rec_q[j];
                 if v[6] != 0.0 {
                     rec.contact(i0 + j, q, v[0], v[1], v[2], v[3]);
+                    rec.belt_loss(v[7]);
                 }
             }
         }
@@ -1158,7 +1174,7 @@ fn contact_arc(
     dz: &mut [f64],
     torque: &mut [f64],
     diss: &mut [f64],
-    mut rec: Option<&mut [[f64; 7]]>,
+    mut rec: Option<&mut [[f64; 8]]>,
 ) {
     let k = ofx.len();
     let [xs, ys, vxs, vys, zs, zfs] = body;
@@ -1181,6 +1197,7 @@ fn contact_arc(
     let PulleyConst {
         radius,
         radius2,
+        lever,
         mu_s,
         mu_k,
         inv_p_max,
@@ -1207,9 +1224,14 @@ fn contact_arc(
         ofx[i] = keep(fx);
         ofy[i] = keep(fy);
         dz[i] = keep(friction.creep_rate(kin.v_t, z));
-        torque[i] = keep(radius * f);
+        torque[i] = keep(lever * f); // eq. 24
         diss[i] = keep(contact::dissipation(&kin, normal, elastic, f));
         if let Some(r) = rec.as_deref_mut() {
+            // the contact's share of the belt's loss: its normal damper and
+            // friction slip (the creep spring's power is not counted,
+            // elements::friction)
+            let loss = (normal - elastic) * kin.p_dot
+                + friction.slip_loss(kin.v_t, z, mu_s * zf, mu_k * zf, normal);
             r[i] = [
                 normal,
                 f,
@@ -1218,6 +1240,7 @@ fn contact_arc(
                 fx,
                 fy,
                 f64::from(u8::from(inside)),
+                loss,
             ];
         }
     }

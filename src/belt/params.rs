@@ -33,15 +33,19 @@ pub enum Method {
 }
 
 #[derive(Clone, Debug, PartialEq)]
+/// Parameters of one pulley.
 pub struct PulleyParams {
     /// Centre [m].
     pub x: f64,
+    /// Centre y [m].
     pub y: f64,
     /// Radius [m].
     pub radius: f64,
     /// Moment of inertia about the axis [kg m^2].
     pub inertia: f64,
+    /// Static friction coefficient with the belt.
     pub mu_static: f64,
+    /// Kinetic friction coefficient with the belt (<= `mu_static`).
     pub mu_kinetic: f64,
     /// The belt's back touches this pulley (an idler outside the loop).
     pub back_side: bool,
@@ -55,6 +59,7 @@ pub struct PulleyParams {
     pub decoupler: bool,
     /// Decoupler spring [N m/rad] and damper [N m s/rad] (> 0).
     pub decoupler_stiffness: f64,
+    /// Decoupler damper [N m s/rad] (> 0).
     pub decoupler_damping: f64,
     /// The clutch drives the rotor clockwise (negative omega) instead of
     /// counterclockwise.
@@ -72,7 +77,9 @@ pub struct PulleyParams {
     /// Arm spring [N m/rad], viscous damper [N m s/rad] and Coulomb
     /// friction torque of the pivot [N m].
     pub arm_stiffness: f64,
+    /// Arm damper [N m s/rad].
     pub arm_damping: f64,
+    /// Coulomb friction torque of the arm's pivot [N m].
     pub arm_friction: f64,
     /// The pulley follows a prescribed speed instead of eq. 24.
     pub speed_driven: bool,
@@ -83,6 +90,7 @@ pub struct PulleyParams {
     pub torque_ramp: f64,
     /// Built-in speed profile for speed-driven pulleys, added to omegaRef.
     pub omega_ramp: f64,
+    /// Duration of the built-in ramps [s].
     pub ramp_time: f64,
 }
 
@@ -119,7 +127,9 @@ impl PulleyParams {
 }
 
 #[derive(Clone, Debug, PartialEq)]
+/// Parameters of the belt (continuum quantities).
 pub struct BeltParams {
+    /// Number of rigid bodies the belt is divided into.
     pub n_bodies: usize,
     /// Static tension at assembly [N].
     pub preload: f64,
@@ -136,6 +146,7 @@ pub struct BeltParams {
 }
 
 #[derive(Clone, Debug, PartialEq)]
+/// Parameters of the belt-pulley contact (eq. 9-11).
 pub struct ContactParams {
     /// Quadratic penalty stiffness per unit belt length [N/m^3] (eq. 9: c1 = value * l).
     pub c1: f64,
@@ -149,7 +160,9 @@ pub struct ContactParams {
 }
 
 #[derive(Clone, Debug, PartialEq)]
+/// Parameters of the belt-pulley friction (section 2.2).
 pub struct FrictionParams {
+    /// Which friction law.
     pub law: FrictionLaw,
     /// Transition velocity of the kubas2014 law [m/s].
     pub dv: f64,
@@ -162,6 +175,7 @@ pub struct FrictionParams {
     pub zone_factor: f64,
     /// First body of the zone (0-based) and its length in bodies.
     pub zone_start: usize,
+    /// Bodies in the modified-friction zone (0 = none).
     pub zone_bodies: usize,
 }
 
@@ -182,10 +196,15 @@ impl Default for FrictionParams {
 }
 
 #[derive(Clone, Debug, PartialEq)]
+/// The integrator and its user-facing settings.
 pub struct SolverParams {
+    /// Which integrator.
     pub method: Method,
+    /// Relative error tolerance.
     pub rel_tol: f64,
+    /// Absolute error tolerance (in each state's SI unit).
     pub abs_tol: f64,
+    /// First trial step size [s].
     pub initial_step: f64,
     /// Step-count guard per `advance` call.
     pub max_steps: u64,
@@ -210,15 +229,25 @@ impl Default for SolverParams {
 pub struct DriveParams {
     /// Pulleys in belt order around the loop (`n_pulleys` of them are used).
     pub pulleys: Vec<PulleyParams>,
+    /// The belt.
     pub belt: BeltParams,
+    /// The contact law.
     pub contact: ContactParams,
+    /// The friction law.
     pub friction: FrictionParams,
+    /// The integrator.
     pub solver: SolverParams,
     /// [m/s^2], acting in -y.
     pub gravity: f64,
-    /// Body (0-based) whose forces the probe outputs report.
+    /// Body (0-based) whose forces the probe outputs report, or
+    /// [`PROBE_AUTO`]: the body nearest the middle of the free span from
+    /// pulley 1 to pulley 2 in the mounted belt (`Drive::probe_body`).
     pub probe_body: usize,
 }
+
+/// `probe_body` value that lets the drive choose the probe body (the FMU's
+/// `probe.body` = 0): any body count is then valid.
+pub const PROBE_AUTO: usize = usize::MAX;
 
 /// Body length of the paper's section-4 mesh (1.2 m belt, 150 bodies), used
 /// to turn its per-element figures into per-length belt properties.
@@ -271,7 +300,7 @@ impl DriveParams {
             friction: FrictionParams::default(),
             solver: SolverParams::default(),
             gravity: 9.81,
-            probe_body: 107,
+            probe_body: PROBE_AUTO,
         }
     }
 
@@ -488,11 +517,11 @@ impl DriveParams {
             ));
         }
         non_negative(Param::Gravity, self.gravity)?;
-        if self.probe_body >= b.n_bodies {
+        if self.probe_body != PROBE_AUTO && self.probe_body >= b.n_bodies {
             return Err(param_error(
                 Param::ProbeBody,
                 format!(
-                    "must be in 1..={} (got {})",
+                    "must be in 1..={} or 0 (chosen automatically; got {})",
                     b.n_bodies,
                     self.probe_body + 1
                 ),

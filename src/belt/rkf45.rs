@@ -54,8 +54,11 @@ const E: [f64; 6] = [
 ];
 
 #[derive(Clone, Debug, PartialEq)]
+/// The RKF45 integrator: tolerances, step control and work vectors.
 pub struct Rkf45 {
+    /// Relative error tolerance.
     pub rel_tol: f64,
+    /// Absolute error tolerance.
     pub abs_tol: f64,
     /// Step size, counters and work guard.
     pub control: StepControl,
@@ -79,8 +82,11 @@ pub struct Rkf45 {
 /// [`SolverTuning::rkf45_beta1`](super::solver_params::SolverTuning::rkf45_beta1).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PiControl {
+    /// Exponent of the current error.
     pub beta1: f64,
+    /// Exponent of the previous accepted error.
     pub beta2: f64,
+    /// Scaled error the controller aims at.
     pub target_error: f64,
 }
 
@@ -106,6 +112,7 @@ impl PiControl {
 const ERR_FLOOR: f64 = 1e-4;
 
 impl Rkf45 {
+    /// An integrator for `dim` states, first step `h0`, at most `max_steps` steps per call.
     pub fn new(dim: usize, rel_tol: f64, abs_tol: f64, h0: f64, max_steps: u64) -> Self {
         Self {
             rel_tol,

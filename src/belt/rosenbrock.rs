@@ -23,9 +23,13 @@ use super::stepping::{EmbeddedMethod, OdeSystem, StepControl, StepFailure};
 /// An ODE whose Jacobian (or an approximation of it) can be formed and whose
 /// iteration matrix `I - c J` can be factored and solved.
 pub trait StiffSystem: OdeSystem {
+    /// The Jacobian's storage.
     type Jacobian: Clone + std::fmt::Debug + PartialEq;
+    /// The factored iteration matrix's storage.
     type Matrix: Clone + std::fmt::Debug + PartialEq;
+    /// Storage for a Jacobian.
     fn new_jacobian(&self) -> Self::Jacobian;
+    /// Storage for an iteration matrix.
     fn new_matrix(&self) -> Self::Matrix;
     /// Evaluates the Jacobian at (t, y).
     fn jacobian(&self, t: f64, y: &[f64], jac: &mut Self::Jacobian);
@@ -42,6 +46,7 @@ pub trait StiffSystem: OdeSystem {
     /// Appends the Jacobian's numbers to `out` / reads them back (false if
     /// they do not fit), for saved states.
     fn save_jacobian(&self, jac: &Self::Jacobian, out: &mut Vec<f64>);
+    /// Reads what `save_jacobian` wrote; false if it does not fit.
     fn load_jacobian(&self, jac: &mut Self::Jacobian, src: &[f64]) -> bool;
 }
 
@@ -160,8 +165,11 @@ pub const JACOBIAN_MAX_AGE: u32 = TUNING.jacobian_max_age;
 const KEEP_STEP_BELOW: f64 = TUNING.keep_step_below;
 
 #[derive(Clone, Debug, PartialEq)]
+/// The ROS34PW2 integrator: tolerances, step control, kept Jacobian and work vectors.
 pub struct Rosenbrock<Sys: StiffSystem> {
+    /// Relative error tolerance.
     pub rel_tol: f64,
+    /// Absolute error tolerance.
     pub abs_tol: f64,
     /// Step size, counters and work guard.
     pub control: StepControl,
@@ -169,6 +177,7 @@ pub struct Rosenbrock<Sys: StiffSystem> {
     pub jacobian_max_age: u32,
     /// Jacobian evaluations and factorizations (cumulative).
     pub jacobians: u64,
+    /// Factorizations of the iteration matrix (cumulative).
     pub factorizations: u64,
     jac: Sys::Jacobian,
     mat: Sys::Matrix,
@@ -184,6 +193,7 @@ pub struct Rosenbrock<Sys: StiffSystem> {
 }
 
 impl<Sys: StiffSystem> Rosenbrock<Sys> {
+    /// An integrator for `sys`, first step `h0`, at most `max_steps` steps per call.
     pub fn new(sys: &Sys, rel_tol: f64, abs_tol: f64, h0: f64, max_steps: u64) -> Self {
         let dim = sys.dim();
         let mut mask = vec![1.0; dim];

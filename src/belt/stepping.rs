@@ -26,20 +26,38 @@ pub trait OdeSystem {
 /// Counters, cumulative over the life of the integrator.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Stats {
+    /// Accepted steps.
     pub steps: u64,
+    /// Rejected trial steps.
     pub rejected: u64,
+    /// Evaluations of the right-hand side.
     pub rhs_evals: u64,
+    /// Size of the last accepted step [s].
     pub last_step: f64,
 }
 
 #[derive(Clone, Debug, PartialEq)]
+/// Why an integration call failed (the state is then restored).
 pub enum StepFailure {
     /// More than `max_steps` steps were needed.
-    TooManySteps { t: f64, steps: u64 },
+    TooManySteps {
+        /// Time reached [s].
+        t: f64,
+        /// Steps taken in the call.
+        steps: u64,
+    },
     /// The step size fell below the resolution of t.
-    StepTooSmall { t: f64, h: f64 },
+    StepTooSmall {
+        /// Time reached [s].
+        t: f64,
+        /// The step size [s].
+        h: f64,
+    },
     /// The right-hand side produced NaN or infinity at every trial step.
-    NonFinite { t: f64 },
+    NonFinite {
+        /// Time reached [s].
+        t: f64,
+    },
 }
 
 impl StepFailure {
@@ -75,12 +93,14 @@ pub struct StepControl {
     pub h: f64,
     /// Most accepted steps per call.
     pub max_steps: u64,
+    /// Counters.
     pub stats: Stats,
     /// State at the start of the current call.
     backup: Vec<f64>,
 }
 
 impl StepControl {
+    /// Step control for `dim` states, first step `h0`, at most `max_steps` steps per call.
     pub fn new(dim: usize, h0: f64, max_steps: u64) -> Self {
         Self {
             h: h0,
@@ -93,6 +113,7 @@ impl StepControl {
 
 /// An embedded pair as the driver sees it.
 pub trait EmbeddedMethod<S: OdeSystem + ?Sized> {
+    /// Step size, counters and work guard.
     fn control(&mut self) -> &mut StepControl;
     /// One trial step of size `h` from (t, y); keeps the candidate state and
     /// returns the scaled error norm (non-finite when the step failed).

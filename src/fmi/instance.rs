@@ -254,6 +254,9 @@ impl<M: FmuModel> Instance<M> {
             self.logger
                 .always(Fmi2Status::Warning, LOG_STATUS_WARNING, &w);
         }
+        for note in self.model.notes() {
+            self.logger.log(Fmi2Status::Ok, LOG_EVENTS, &note);
+        }
         self.plumbing.mode = Mode::StepComplete;
         let t = self.plumbing.time;
         self.logger.log(

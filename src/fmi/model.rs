@@ -69,6 +69,13 @@ pub trait FmuModel: Clone + Send + Sized + 'static {
     /// plumbing logs with status fmi2Warning (the call still returns fmi2OK).
     fn initialize(&mut self) -> Result<Vec<String>, String>;
 
+    /// Choices the model made itself at initialization (e.g. a parameter
+    /// left at "automatic"), logged with status fmi2OK in the category
+    /// logEvents after a successful [`initialize`](Self::initialize).
+    fn notes(&self) -> Vec<String> {
+        Vec::new()
+    }
+
     /// fmi2DoStep: integrate from `t` to exactly `t + h`. On `Err` the model
     /// must be left at its state at `t`.
     fn do_step(&mut self, t: f64, h: f64) -> Result<(), StepError>;

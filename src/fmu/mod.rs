@@ -14,7 +14,7 @@ mod snapshot;
 pub mod variables;
 
 use crate::belt::drive::Outputs;
-use crate::belt::params::{PulleyParams, MAX_PULLEYS};
+use crate::belt::params::{PulleyParams, MAX_PULLEYS, PROBE_AUTO};
 use crate::belt::{Drive, DriveParams, Inputs};
 use crate::fmi::{FmuModel, ModelDescription, StepError};
 use variables::{Start, Var, VarInfo, VarType, MODEL_DESCRIPTION, VARIABLES};
@@ -35,6 +35,7 @@ struct IntegerParams {
 }
 
 #[derive(Clone, Debug)]
+/// The FMU's model: parameters and inputs as set through FMI, and the drive built from them.
 pub struct BeltDrive {
     /// Every parameter; `params.pulleys` always holds all six slots.
     params: DriveParams,
@@ -142,11 +143,14 @@ impl BeltDrive {
         if i.probe_body > i.n_bodies {
             return Err(range_error(
                 "probe.body",
-                &format!("in 1..={}", i.n_bodies),
+                &format!("in 1..={} or 0 (chosen automatically)", i.n_bodies),
                 i.probe_body,
             ));
         }
-        p.probe_body = (i.probe_body - 1) as usize;
+        p.probe_body = match i.probe_body {
+            0 => PROBE_AUTO,
+            b => (b - 1) as usize,
+        };
         p.solver.method = names::method(i.method).ok_or_else(|| {
             range_error(
                 "solver.method",
@@ -256,6 +260,7 @@ impl BeltDrive {
             Var::ProbeX => o.probe.position[0],
             Var::ProbeY => o.probe.position[1],
             Var::PowerDissipated => o.power_dissipated,
+            Var::BeltPowerLoss => o.belt_power_loss,
             Var::EnergyDissipated => o.energy_dissipated,
             Var::EnergyInput => o.energy_input,
             Var::EnergyKinetic => o.kinetic_energy,
@@ -388,6 +393,17 @@ impl FmuModel for BeltDrive {
     fn initialize(&mut self) -> Result<Vec<String>, String> {
         self.ensure_drive()
             .map(|d| d.warnings().iter().map(names::render).collect())
+    }
+
+    fn notes(&self) -> Vec<String> {
+        match &self.drive {
+            Some(d) if d.params().probe_body == PROBE_AUTO => vec![format!(
+                "probe.body = 0: the probe outputs report body {}, the one nearest the middle \
+                 of the free span from pulley[1] to pulley[2] in the mounted belt",
+                d.probe_body() + 1
+            )],
+            _ => Vec::new(),
+        }
     }
 
     fn do_step(&mut self, t: f64, h: f64) -> Result<(), StepError> {
@@ -523,7 +539,7 @@ mod tests {
         m.set_integer(info(Var::ProbeBody), 151).unwrap();
         assert_eq!(
             m.drive_params().unwrap_err(),
-            "probe.body must be in 1..=150 (got 151)"
+            "probe.body must be in 1..=150 or 0 (chosen automatically) (got 151)"
         );
     }
 

@@ -12,8 +12,11 @@ pub const BODY_STATES: usize = BODY_DOF;
 /// A pulley as the analysis needs it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PulleyInfo {
+    /// Centre [m].
     pub centre: [f64; 2],
+    /// Radius [m].
     pub radius: f64,
+    /// Moment of inertia [kg m^2].
     pub inertia: f64,
     /// Follows a prescribed speed (its angle and speed are no degrees of freedom).
     pub speed_driven: bool,
@@ -28,19 +31,23 @@ pub struct PulleyInfo {
 /// The drive's state and Jacobian at one instant, with the state layout.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Linearisation {
+    /// Time of the linearisation [s].
     pub time: f64,
     /// State vector, `dim` values.
     pub y: Vec<f64>,
     /// d(dy/dt)/dy, row-major `dim x dim`.
     pub jacobian: Vec<f64>,
+    /// Length of the state vector.
     pub dim: usize,
     /// Number of belt bodies.
     pub n: usize,
     /// Body mass [kg] and moment of inertia [kg m^2].
     pub mass: f64,
+    /// Moment of inertia [kg m^2].
     pub inertia: f64,
     /// Natural body length [m].
     pub body_length: f64,
+    /// The pulleys, in pulley order.
     pub pulleys: Vec<PulleyInfo>,
     /// Free spans (pulley it leaves, pulley it reaches, length [m]), loop order.
     pub spans: Vec<(usize, usize, f64)>,

@@ -107,7 +107,7 @@ impl ContactLaw {
 /// plain distance from the pulley centre, the outward normal `n` and the
 /// tangent `t` (n turned by +90 degrees), the penetration `p = r_p - dist`
 /// and its rate, and the relative tangential velocity `v_T` of the pulley
-/// surface over the body (the pulley radius as lever: `v_T = omega r_p - v.t`).
+/// surface over the body (`v_T = omega r_c - v.t`, r_c the pulley's friction lever).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContactKin {
     /// Squared distance of the body centre from the pulley centre [m^2].
@@ -129,7 +129,8 @@ pub struct ContactKin {
 }
 
 /// [`ContactKin`] of a body at `r` from the centre of a pulley of `radius`
-/// whose surface moves at `surface` (= omega r_p), body velocity `v`.
+/// whose surface moves at `surface` (= omega times the friction lever),
+/// body velocity `v`.
 #[inline(always)]
 pub fn kinematics(r: [f64; 2], v: [f64; 2], radius: f64, surface: f64) -> ContactKin {
     let [rx, ry] = r;
@@ -185,7 +186,7 @@ pub struct ContactPartials {
     pub fric_v: RowVector2<f64>,
     /// df/dz: the friction force's slope in the creep displacement.
     pub fric_z: f64,
-    /// df/d(omega_p): its slope in the pulley speed (through v_T = omega r_p - ...).
+    /// df/d(omega_p): its slope in the pulley speed (through v_T = omega r_c - ...).
     pub fric_w: f64,
     /// dv_T/dx and dv_T/dv (the creep rate's slopes).
     pub vt_x: RowVector2<f64>,
@@ -197,7 +198,8 @@ pub struct ContactPartials {
 /// at `k` ([`kinematics`]) with velocity `v`, given the normal force and
 /// its partials `(N, dN/dp, dN/dp')` ([`ContactLaw::normal_force_jac`]) and
 /// the friction coefficient with its partials `(mu, dmu/dv_T, dmu/dz)`
-/// (the friction law's `coefficient_jac`), on a pulley of `radius`.
+/// (the friction law's `coefficient_jac`), on a pulley whose friction has
+/// the lever `lever` (the surface speed is omega times it).
 /// With dn/dx = t t^T / dist and dt/dx = -n t^T / dist.
 #[inline(always)]
 pub fn force_partials(
@@ -205,7 +207,7 @@ pub fn force_partials(
     v: [f64; 2],
     normal: (f64, f64, f64),
     mu: (f64, f64, f64),
-    radius: f64,
+    lever: f64,
 ) -> ContactPartials {
     let (n_force, dn_dp, dn_dpd) = normal;
     let (mu, dmu_dv, dmu_dz) = mu;
@@ -232,7 +234,7 @@ pub fn force_partials(
         fric_x,
         fric_v,
         fric_z: n_force * dmu_dz,
-        fric_w: n_force * dmu_dv * radius,
+        fric_w: n_force * dmu_dv * lever,
         vt_x,
         vt_v,
     }
@@ -258,8 +260,8 @@ mod tests {
         z: f64,
         w: f64,
     ) -> ([f64; 2], f64) {
-        let radius = 0.05;
-        let k = kinematics(x, v, radius, w * radius);
+        let (radius, lever) = (0.05, 0.0497);
+        let k = kinematics(x, v, radius, w * lever);
         let (normal, _) = law.normal_force(k.p, k.p_dot, INV_P_MAX);
         let f = fr.coefficient(k.v_t, z, 1.05, 0.9) * normal;
         (force(&k, normal, f), f)
@@ -287,12 +289,12 @@ mod tests {
                 ([-0.0248, 0.0433], [-0.86676, -0.4999], -4e-5, 19.99),
                 ([0.049_99, 0.0001], [0.01, 1.0], 1.2e-4, 20.1),
             ] {
-                let radius = 0.05;
-                let k = kinematics(x, v, radius, w * radius);
+                let (radius, lever) = (0.05, 0.0497);
+                let k = kinematics(x, v, radius, w * lever);
                 assert!(k.p > 0.0);
                 let nj = law.normal_force_jac(k.p, k.p_dot, INV_P_MAX);
                 let mj = fr.coefficient_jac(k.v_t, z, 1.05, 0.9);
-                let cp = force_partials(&k, v, nj, mj, radius);
+                let cp = force_partials(&k, v, nj, mj, lever);
                 assert_eq!(cp.f, contact(&law, &fr, x, v, z, w).1);
                 let check = |m: &[[f64; 2]; 2], fd: &dyn Fn(usize, usize) -> f64, what: &str| {
                     for (r, row) in m.iter().enumerate() {

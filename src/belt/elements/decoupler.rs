@@ -31,7 +31,9 @@ pub const CLUTCH_BAND: f64 = 1e-2;
 pub struct Decoupler {
     /// Spring [N m/rad], damper [N m s/rad] (> 0), clutch sense s = +-1.
     pub stiffness: f64,
+    /// Damper [N m s/rad] (> 0).
     pub damping: f64,
+    /// Clutch sense s: +1 drives the rotor counterclockwise, -1 clockwise.
     pub sense: f64,
 }
 
@@ -45,8 +47,11 @@ pub struct DecouplerLaw {
     pub twist_rate: f64,
     /// d M / d delta, d M / d w, d delta' / d delta, d delta' / d w.
     pub torque_d_twist: f64,
+    /// d M / d w.
     pub torque_d_rate: f64,
+    /// d delta' / d delta.
     pub rate_d_twist: f64,
+    /// d delta' / d w.
     pub rate_d_rate: f64,
 }
 

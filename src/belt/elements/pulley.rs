@@ -18,6 +18,10 @@ pub struct PulleyConst {
     pub radius: f64,
     /// r_p^2 [m^2].
     pub radius2: f64,
+    /// Lever of the friction on the pulley [m] (the radius r_p): its
+    /// surface speed is omega times it and a friction force f turns it by
+    /// lever times f (eq. 14, 24).
+    pub lever: f64,
     /// 1 / J [1/(kg m^2)].
     pub inv_inertia: f64,
     /// Moment of inertia J [kg m^2].
@@ -44,6 +48,7 @@ pub struct PulleyConst {
     pub decoupler: Option<Decoupler>,
     /// Rotor moment of inertia behind the decoupler [kg m^2] and its inverse.
     pub rotor_inertia: f64,
+    /// 1 / rotor inertia [1/(kg m^2)].
     pub rotor_inv_inertia: f64,
     /// Offset of the decoupler's states [twist, rotor speed] in the state.
     pub decoupler_offset: usize,
@@ -72,6 +77,7 @@ impl PulleyConst {
         cy: 0.0,
         radius: 0.0,
         radius2: 0.0,
+        lever: 0.0,
         inv_inertia: 0.0,
         inertia: 0.0,
         mu_s: 0.0,

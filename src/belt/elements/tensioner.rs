@@ -31,14 +31,18 @@ pub struct Arm {
     pub pivot: [f64; 2],
     /// Arm length R [m] and direction phi0 at mounting [rad].
     pub length: f64,
+    /// Direction of the arm at mounting [rad].
     pub phi0: f64,
     /// Moment of inertia of arm and pulley about the pivot [kg m^2].
     pub inertia: f64,
     /// Spring [N m/rad], its free angle [rad], damper [N m s/rad], pivot
     /// Coulomb friction [N m].
     pub stiffness: f64,
+    /// Free angle of the spring [rad].
     pub free_angle: f64,
+    /// Viscous damper [N m s/rad].
     pub damping: f64,
+    /// Coulomb friction torque of the pivot [N m].
     pub friction: f64,
 }
 
@@ -49,6 +53,7 @@ pub struct ArmTorque {
     pub torque: f64,
     /// d torque / d alpha, d torque / d alpha'.
     pub d_angle: f64,
+    /// d torque / d alpha'.
     pub d_rate: f64,
 }
 
