@@ -174,9 +174,10 @@ pub struct Jacobian {
     pub hw: [Vector2<f64>; MAX_PULLEYS],
     /// The input power's row (the `energy.input` accumulator): per pulley
     /// the prescribed speed a speed-driven pulley's drive torque is
-    /// multiplied with, and the applied torque multiplying the speed of a
-    /// torque-driven pulley (of the rotor behind a decoupler).
+    /// multiplied with (0 for a torque-driven pulley).
     pub power_speed: [f64; MAX_PULLEYS],
+    /// The applied torque multiplying the speed of a torque-driven pulley
+    /// (of the rotor behind a decoupler) in the input power's row.
     pub power_applied: [f64; MAX_PULLEYS],
     /// Tensioner arm of pulley j (zero if it has none).
     pub arm: [ArmJacobian; MAX_PULLEYS],
