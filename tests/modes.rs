@@ -199,8 +199,8 @@ fn running_floquet(p: &DriveParams) -> (Modes, f64, f64) {
 /// 2 % of the discrete boundary (at rest, above), the tension's fluctuation
 /// in the running belt (the law takes span 1's mid-element tension at the
 /// start of the period) and the theta method's phase error (~3e-6 at 14 Hz).
-/// Measured: +2.9 % (14.37 Hz against 13.96 Hz); the higher span modes lie
-/// 2-5 % above n f_1 (n = 2..5).
+/// Measured: +1.0 % (14.30 Hz against 14.16 Hz); the higher modes labelled
+/// span transverse lie 3-4 % above n f_1 (n = 3, 5, 6).
 ///
 /// The analysis must also leave no oscillating mode below 0.8 f_1: the
 /// frozen-time analysis gave spurious slow modes there (0.6 Hz) from the
