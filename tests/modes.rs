@@ -198,7 +198,7 @@ fn running_floquet(p: &DriveParams) -> (Modes, f64, f64) {
 /// transverse mode of either is f_1. Tolerance 5 % (the figure): the
 /// 2 % of the discrete boundary (at rest, above), the tension's fluctuation
 /// in the running belt (the law takes span 1's mid-element tension at the
-/// start of the period) and the theta method's phase error (~1e-6 at 14 Hz).
+/// start of the period) and the theta method's phase error (~3e-6 at 14 Hz).
 /// Measured: +2.9 % (14.37 Hz against 13.96 Hz); the higher span modes lie
 /// 2-5 % above n f_1 (n = 2..5).
 ///

@@ -692,9 +692,10 @@ impl<const NB: usize> Factors<NB> {
             next = self.dinv[i] * r;
             Self::recover(jac, c, &dw[..sys.np], &dr[..sys.np], b, i, next, self.bz[i]);
         }
-        // 3. impulses: nothing depends on them, their rows give
-        //    x_q = b_q + c (dG/dy) x
-        let rows = jac.impulse_rows(sys, b);
+        // 3. impulses and the input energy: nothing depends on them, their
+        //    rows give x_q = b_q + c (dG/dy) x
+        let (rows, power) = jac.impulse_rows(sys, b);
+        b[sys.energy_offset()] += c * power;
         for (j, r) in rows.iter().enumerate().take(sys.np) {
             let q = sys.impulse_offset(j);
             for (k, v) in r.iter().enumerate() {

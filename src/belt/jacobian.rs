@@ -11,8 +11,9 @@
 //!   touches it and on its own speed (eq. 24, load damping).
 //!
 //! Positions never depend on anything but velocities (dq/dt = v), pulley
-//! angles only on pulley speeds; the energy accumulators are left out (the
-//! W-method keeps its order with an approximate Jacobian, see rosenbrock.rs).
+//! angles only on pulley speeds; the dissipated-energy accumulator is left
+//! out (the W-method keeps its order with an approximate Jacobian, see
+//! rosenbrock.rs), the input energy has its row (below).
 //!
 //! The impulse states (belt torque, drive torque and hub force of each
 //! pulley integrated over the communication step) have rows but no columns:
@@ -22,6 +23,9 @@
 //! leaves unresolved at the step end then adds to the impulse only what it
 //! adds to the pulley's momentum (I omega + d theta - impulse of the applied
 //! torque = belt torque impulse holds for both, to the step's round-off).
+//! The input energy's row (the drive torques times the prescribed speeds,
+//! the applied torques times the state speeds) is there for the same
+//! reason: it books the work the drives do with that linearisation too.
 
 use super::elements::contact;
 use super::elements::sde::{self, BodyEnd};
@@ -168,6 +172,13 @@ pub struct Jacobian {
     pub tw: [f64; MAX_PULLEYS],
     /// d(hub force j)/d(omega_j).
     pub hw: [Vector2<f64>; MAX_PULLEYS],
+    /// The input power's row (the `energy.input` accumulator): per pulley
+    /// the prescribed speed a speed-driven pulley's drive torque is
+    /// multiplied with (0 for a torque-driven pulley).
+    pub power_speed: [f64; MAX_PULLEYS],
+    /// The applied torque multiplying the speed of a torque-driven pulley
+    /// (of the rotor behind a decoupler) in the input power's row.
+    pub power_applied: [f64; MAX_PULLEYS],
     /// Tensioner arm of pulley j (zero if it has none).
     pub arm: [ArmJacobian; MAX_PULLEYS],
     /// Per body, its coupling with the arms (empty in a drive without arms).
@@ -200,6 +211,8 @@ impl Jacobian {
             dec: [DecouplerJacobian::default(); MAX_PULLEYS],
             tw: [0.0; MAX_PULLEYS],
             hw: [Vector2::zeros(); MAX_PULLEYS],
+            power_speed: [0.0; MAX_PULLEYS],
+            power_applied: [0.0; MAX_PULLEYS],
             arm: [ArmJacobian::default(); MAX_PULLEYS],
             arm_bodies: if sys.n_arms > 0 {
                 vec![BodyArmJacobian::default(); sys.n]
@@ -249,6 +262,10 @@ impl Jacobian {
             }
         }
         self.tw.iter_mut().for_each(&mut *f);
+        self.power_speed
+            .iter_mut()
+            .chain(self.power_applied.iter_mut())
+            .for_each(&mut *f);
         for v in &mut self.hw {
             v.iter_mut().for_each(&mut *f);
         }
@@ -276,8 +293,9 @@ impl Jacobian {
 
     /// The impulse rows applied to `x` (a full state vector): the rates of
     /// belt torque, drive torque and hub force x, y of each pulley that the
-    /// linearisation gives for the state change `x` (`[pulley][4]`).
-    pub fn impulse_rows(&self, sys: &BeltSystem, x: &[f64]) -> [[f64; 4]; MAX_PULLEYS] {
+    /// linearisation gives for the state change `x` (`[pulley][4]`), and the
+    /// rate of the input power (the `energy.input` row).
+    pub fn impulse_rows(&self, sys: &BeltSystem, x: &[f64]) -> ([[f64; 4]; MAX_PULLEYS], f64) {
         let np = sys.np;
         let mut torque = [0.0; MAX_PULLEYS];
         let mut hub = [Vector2::zeros(); MAX_PULLEYS];
@@ -300,8 +318,16 @@ impl Jacobian {
             }
         }
         let mut out = [[0.0; 4]; MAX_PULLEYS];
+        let mut power = 0.0;
         for j in 0..np {
             let pc = &sys.pulleys[j];
+            // input power: (applied + drive) omega, applied omega_rotor
+            // behind a decoupler
+            if pc.decoupler.is_some() {
+                power += self.power_applied[j] * x[pc.decoupler_offset + 1];
+            } else if self.free[j] {
+                power += self.power_applied[j] * x[sys.pulley_offset(j) + 1];
+            }
             if self.free[j] {
                 let dw = x[sys.pulley_offset(j) + 1];
                 torque[j] += self.tw[j] * dw;
@@ -324,9 +350,10 @@ impl Jacobian {
             } else {
                 0.0
             };
+            power += self.power_speed[j] * drive;
             out[j] = [torque[j], drive, hub[j].x, hub[j].y];
         }
-        out
+        (out, power)
     }
 
     /// Appends the stored numbers to `out`.
@@ -430,8 +457,9 @@ impl Jacobian {
         let mut e = vec![0.0; dim];
         for col in 0..sys.controlled_dim() {
             e[col] = 1.0;
-            let rows = self.impulse_rows(sys, &e);
+            let (rows, power) = self.impulse_rows(sys, &e);
             e[col] = 0.0;
+            set(sys.energy_offset(), col, power);
             for (j, r) in rows.iter().enumerate().take(sys.np) {
                 for (k, v) in r.iter().enumerate() {
                     set(sys.impulse_offset(j) + k, col, *v);
@@ -489,6 +517,10 @@ impl BeltSystem {
             centre[j] = [c[0], c[1], vc[0], vc[1]];
             jac.arm[j] = ArmJacobian::default();
             let pc = &self.pulleys[j];
+            // input power (applied + drive) omega: the drive torque's row
+            // times a prescribed speed, the applied torque times a state speed
+            jac.power_speed[j] = if pc.speed_driven { omega_p[j] } else { 0.0 };
+            jac.power_applied[j] = self.applied_torque(j, t);
             if let Some(arm) = &pc.arm {
                 let (a, w) = (y[pc.arm_offset], y[pc.arm_offset + 1]);
                 let dc = arm.centre(a).1;
@@ -829,8 +861,9 @@ mod tests {
     }
 
     /// Compares the analytic Jacobian with central differences of the
-    /// right-hand side, column by column (energy rows excluded: the W-method
-    /// leaves them out; the impulse rows included). Returns the number of
+    /// right-hand side, column by column (the dissipated-energy row excluded:
+    /// the W-method leaves it out; the input-energy and impulse rows
+    /// included). Returns the number of
     /// columns checked.
     fn check(sys: &BeltSystem, t: f64, y: &[f64]) -> usize {
         let dim = sys.dim();
@@ -838,8 +871,8 @@ mod tests {
         sys.jacobian(t, y, &mut jac);
         let dense = jac.to_dense(sys);
         let e_rows = sys.energy_offset();
-        // every state but the two energy accumulators
-        let states: Vec<usize> = (0..e_rows).chain(e_rows + 2..dim).collect();
+        // every state but the dissipated-energy accumulator
+        let states: Vec<usize> = (0..=e_rows).chain(e_rows + 2..dim).collect();
         let (mut a, mut b) = (vec![0.0; dim], vec![0.0; dim]);
         let mut ws = Workspace::new();
         let mut yp = y.to_vec();
@@ -949,7 +982,7 @@ mod tests {
                     y[o + 1] = on_ramp.y;
                 }
                 let cols = check(d.system(), 0.02, &y);
-                assert_eq!(cols, d.system().dim() - 2);
+                assert_eq!(cols, d.system().dim() - 1);
             }
         }
     }
@@ -981,7 +1014,7 @@ mod tests {
                     y[o + 1] = w_r;
                 }
                 let cols = check(sys, 0.02, &y);
-                assert_eq!(cols, sys.dim() - 2);
+                assert_eq!(cols, sys.dim() - 1);
             }
         }
     }
@@ -1023,7 +1056,7 @@ mod tests {
                 y[o] = angle;
                 y[o + 1] = rate;
                 let cols = check(sys, 0.02, &y);
-                assert_eq!(cols, sys.dim() - 2);
+                assert_eq!(cols, sys.dim() - 1);
                 // the arm's row is really coupled to the bodies
                 let mut jac = Jacobian::new(sys);
                 sys.jacobian(0.02, &y, &mut jac);

@@ -4,7 +4,7 @@
 //!
 //! Why a W-method: its order conditions hold for *any* matrix in place of the
 //! exact Jacobian, so the Jacobian can be kept over several steps, the
-//! energy accumulators can be left out of it, and the explicit time
+//! dissipated-energy accumulator can be left out of it, and the explicit time
 //! dependence of the inputs needs no df/dt term, all without losing order.
 //! Each stage solves (I - h gamma J) x = b with the system's own structured
 //! solver (for the belt: O(n), see [`super::iteration_matrix`]).

@@ -532,7 +532,7 @@ pub fn body_rate(lin: &Linearisation) -> f64 {
 /// multipliers of modulus ~1 at arbitrary angles and mix into the
 /// eigenvectors of the slow modes; at 0.6 each step damps them by 2/3
 /// (1e-11 over 64 steps) while a mode of frequency f gains only the
-/// numerical damping ratio (theta - 1/2) 2 pi f h (1e-4 at 14 Hz, 8e-3 at
+/// numerical damping ratio (theta - 1/2) 2 pi f h (2e-4 at 14 Hz, 1.3e-2 at
 /// 1 kHz with h = 21 us) and a phase error of order (2 pi f h)^2.
 pub const FLOQUET_THETA: f64 = 0.6;
 
