@@ -321,30 +321,13 @@ impl DriveParams {
     pub fn kubas_section3() -> Self {
         let l = PAPER3_BODY_LENGTH;
         let pulley = |x: f64| PulleyParams {
-            x,
-            y: 0.0,
             radius: 0.08125,
             inertia: 0.02,
             mu_static: 0.8,
             mu_kinetic: 0.8,
-            back_side: false,
-            groove_angle: 0.0,
-            decoupler: false,
-            decoupler_stiffness: 10.0,
-            decoupler_damping: 0.02,
-            decoupler_clockwise: false,
-            rotor_inertia: 3e-3,
-            tensioner: false,
-            arm_pivot: [0.0, 0.0],
-            arm_inertia: 1e-3,
-            arm_stiffness: 40.0,
-            arm_damping: 0.0,
-            arm_friction: 0.0,
-            speed_driven: false,
-            load_damping: 0.0,
-            torque_ramp: 0.0,
             omega_ramp: 0.0,
             ramp_time: 0.1,
+            ..PulleyParams::paper_5pk(x, 0.0)
         };
         let mut p1 = pulley(0.0);
         p1.speed_driven = true;
