@@ -345,7 +345,9 @@ pub(crate) fn check_range(v: &Variable) -> Result<(), String> {
             return Err(format!("min = {lo} is greater than max = {hi}"));
         }
         if lo == hi && (v.min_exclusive || v.max_exclusive) {
-            return Err(format!("min = max = {lo} with an exclusive end leaves no value"));
+            return Err(format!(
+                "min = max = {lo} with an exclusive end leaves no value"
+            ));
         }
     }
     if let Some(x) = v

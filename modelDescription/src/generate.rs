@@ -197,6 +197,10 @@ pub fn rust_table(md: &ModelDescription, guid: &str, fmi: &str) -> Result<String
         w,
         "/// Every ScalarVariable, in XML order (`VARIABLES[i]` has ModelStructure index `i + 1`)."
     );
+    let _ = writeln!(
+        w,
+        "#[allow(clippy::approx_constant)] // bounds as the XML writes them (pi as digits)"
+    );
     let _ = writeln!(w, "pub static VARIABLES: &[VarInfo] = &[");
     for v in &md.variables {
         let (variant, index) = variant_and_index(&v.name)?;
@@ -361,6 +365,7 @@ pub fn param_tables(
              impl {id_type} {{\n    \
              /// The declared range (`min`, `max`, exclusive ends) and unit of this\n    \
              /// parameter, as the model description states them.\n    \
+             #[allow(clippy::approx_constant)] // bounds as the XML writes them (pi as digits)\n    \
              pub const fn declared(self) -> {range_type} {{\n        \
              match self {{\n{ranges}        }}\n    }}\n}}\n"
         ),
@@ -444,14 +449,24 @@ mod tests {
         assert!(t.ranges.contains(
             "Self::Radius(_) => R { min: Some(0.0), max: None, min_exclusive: true, max_exclusive: false, unit: \"m\" },"
         ), "{}", t.ranges);
-        assert!(t.variables.contains("Id::Count => (Var::N, 0),"), "{}", t.variables);
-        assert!(t.variables.contains("Id::Radius(j) => (Var::PR, j),"), "{}", t.variables);
+        assert!(
+            t.variables.contains("Id::Count => (Var::N, 0),"),
+            "{}",
+            t.variables
+        );
+        assert!(
+            t.variables.contains("Id::Radius(j) => (Var::PR, j),"),
+            "{}",
+            t.variables
+        );
         // refusals: an unknown variable, an id twice, slots that disagree
         let e = param_tables(&md, &[("X", "q[#].r")], "Id", "R").unwrap_err();
         assert!(e.contains("X: no variable q[#].r"), "{e}");
         let e = param_tables(&md, &[("Count", "n"), ("Count", "n")], "Id", "R").unwrap_err();
         assert!(e.contains("Count is listed twice"), "{e}");
-        let md = crate::parse(&TWO_SLOTS.replacen("start=\"2\" min=\"0\"", "start=\"2\" min=\"1\"", 1)).unwrap();
+        let md =
+            crate::parse(&TWO_SLOTS.replacen("start=\"2\" min=\"0\"", "start=\"2\" min=\"1\"", 1))
+                .unwrap();
         let e = param_tables(&md, &ids, "Id", "R").unwrap_err();
         assert!(e.contains("p[2].r declares another range"), "{e}");
     }

@@ -399,7 +399,9 @@ pub fn parse(xml: &str) -> Result<ModelDescription, String> {
             }
             (Some("Annotations"), "Tool") if current.is_some() => tool = a.get("name"),
             (Some("Tool"), "Range") if current.is_some() && tool.as_deref() == Some(RANGE_TOOL) => {
-                let v = current.as_mut().ok_or("internal: Range outside ScalarVariable")?;
+                let v = current
+                    .as_mut()
+                    .ok_or("internal: Range outside ScalarVariable")?;
                 let end = |key: &str| -> Result<bool, String> {
                     match a.get(key).as_deref() {
                         None | Some("inclusive") => Ok(false),

@@ -435,8 +435,17 @@ fn check(ok: bool, name: Param, what: impl Into<Message>, value: f64) -> Result<
     } else {
         let mut m = msg!["must be "];
         m.0.extend(what.into().0);
-        m.0.push(Part::from(format!(" (got {value})")));
+        m.0.push(Part::from(format!(" (got {})", shown(value))));
         Err(param_error(name, m))
+    }
+}
+
+/// A value as a refusal shows it: `0.027`, `1e300` (not 301 digits).
+fn shown(x: f64) -> String {
+    if x != 0.0 && x.is_finite() && !(1e-4..1e6).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
     }
 }
 
@@ -466,12 +475,7 @@ fn declared_count(p: Param, n: usize) -> Result<(), ParamError> {
 /// `v` > 0 where the declared range starts at 0 inclusive because 0 is
 /// valid while a feature is off: `p` must be positive when `flag` is set.
 fn positive_when(p: Param, flag: Param, v: f64) -> Result<(), ParamError> {
-    check(
-        v > 0.0,
-        p,
-        msg!["> 0 when ", flag, " is set"],
-        v,
-    )
+    check(v > 0.0, p, msg!["> 0 when ", flag, " is set"], v)
 }
 
 impl PulleyParams {
@@ -602,7 +606,11 @@ impl DriveParams {
             )?;
             if p.decoupler {
                 let on = Param::PulleyDecoupler(j);
-                positive_when(Param::PulleyDecouplerStiffness(j), on, p.decoupler_stiffness)?;
+                positive_when(
+                    Param::PulleyDecouplerStiffness(j),
+                    on,
+                    p.decoupler_stiffness,
+                )?;
                 check(
                     p.decoupler_damping > 0.0,
                     Param::PulleyDecouplerDamping(j),
