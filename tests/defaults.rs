@@ -345,3 +345,67 @@ fn integrators_agree_on_the_accessory_drive() {
     }
     integrators_agree("accessory drive", &p, None, 0.4, 0.6, 2);
 }
+
+/// The accessory drive's decoupler and tensioner sets
+/// (parameters/accessory-drive-decoupler.ssv, accessory-drive-tensioner.ssv)
+/// as the plain accessory drive above: the crank ramp shortened to 0.2 s,
+/// means over 0.4-0.6 s, the alternator's slip (pulley 2, behind its
+/// one-way clutch: the slip is the belt's over its pulley, not the
+/// rotor's).
+#[test]
+fn integrators_agree_on_the_decoupler_and_tensioner_sets() {
+    for file in [
+        "accessory-drive-decoupler.ssv",
+        "accessory-drive-tensioner.ssv",
+    ] {
+        let mut p = parameter_set(file);
+        p.solver.max_steps = DriveParams::default().solver.max_steps;
+        for q in &mut p.pulleys {
+            q.ramp_time = 0.2;
+        }
+        integrators_agree(file, &p, None, 0.4, 0.6, 2);
+    }
+}
+
+/// The paper's section-4 set as it ships (parameters/kubas2014-section4.ssv:
+/// the paper's 1 mm contact ramp, the 5PK drive of the default otherwise),
+/// means over 0.35-0.6 s as on the default drive.
+#[test]
+fn integrators_agree_on_the_section4_set() {
+    let mut p = parameter_set("kubas2014-section4.ssv");
+    // the set's step guard is the FMU's per-communication-step bound
+    p.solver.max_steps = DriveParams::default().solver.max_steps;
+    integrators_agree("section-4 set", &p, None, 0.35, 0.6, 1);
+}
+
+/// A 60-body drive (two 50 mm pulleys 0.25 m apart, 300 N preload, every
+/// other parameter at its default, the probe chosen automatically): pulley
+/// 1 driven by -2 N m ramped over 0.05 s, pulley 2 loaded by 0.05 N m s/rad;
+/// means over 0.3-0.5 s.
+///
+/// Known disagreement (issue 16): the speeds follow the power balance
+/// 2 N m omega_1 = 0.05 omega_2^2 + the belt's loss, and the loss is 0.6 %
+/// of the power (RKF45: 0.0119 N m of the 2 N m). The stiff method at
+/// relTol 1e-4 gains energy in the belt's fast motion instead (loss -0.0014
+/// N m), so its speeds are 0.67 % high while its span tensions agree within
+/// 0.15 %. The cause is the body velocities' error weight 1e-2: with weight
+/// 0.1 the loss is 0.0114 N m (2.6 times the steps), with full weight
+/// RKF45's 0.0119 (6.9 times); absTol 1e-8 does not remove it (0.0031 N m;
+/// docs/model.md, "Integrators"). The test fails on the speed until that is
+/// fixed; it then must lose this attribute.
+#[test]
+#[should_panic(expected = "60-body drive, relTol 1e-4: pulley 1 speed")]
+fn integrators_agree_on_a_sixty_body_drive() {
+    let mut p = DriveParams::default();
+    p.belt.n_bodies = 60;
+    p.belt.preload = 300.0;
+    p.probe_body = 0;
+    p.pulleys[0].radius = 0.05;
+    p.pulleys[1].radius = 0.05;
+    p.pulleys[1].x = 0.25;
+    p.pulleys[0].torque_ramp = -2.0;
+    p.pulleys[0].ramp_time = 0.05;
+    p.pulleys[1].load_damping = 0.05;
+    p.pulleys[1].ramp_time = 0.05;
+    integrators_agree("60-body drive", &p, None, 0.3, 0.5, 1);
+}
