@@ -385,10 +385,10 @@ fn integrators_agree_on_the_section4_set() {
 ///
 /// Known disagreement (issue 16): the speeds follow the power balance
 /// 2 N m omega_1 = 0.05 omega_2^2 + the belt's loss, and the loss is 0.6 %
-/// of the power (RKF45: 0.0119 N m of the 2 N m). The stiff method at
-/// relTol 1e-4 gains energy in the belt's fast motion instead (loss -0.0014
-/// N m), so its speeds are 0.67 % high while its span tensions agree within
-/// 0.15 %. The cause is the body velocities' error weight 1e-2: with weight
+/// of the power (RKF45: 0.0120 N m of the 2 N m). The stiff method at
+/// relTol 1e-4 gains energy in the belt's fast motion instead (loss -0.0018
+/// N m), so its speeds are 0.69 % high while its span tensions agree within
+/// 0.24 %. The cause is the body velocities' error weight 1e-2: with weight
 /// 0.1 the loss is 0.0114 N m (2.6 times the steps), with full weight
 /// RKF45's 0.0119 (6.9 times); absTol 1e-8 does not remove it (0.0031 N m;
 /// docs/model.md, "Integrators"). The test fails on the speed until that is
