@@ -167,8 +167,8 @@ fn ssv(file: &str) -> Vec<(String, String, String)> {
 /// * Energy balance over 0-0.8 s: work in (`energy.input`) = change of
 ///   kinetic and potential energy + `energy.dissipated`, within 100 relTol
 ///   of the work: the energy states are integrated with the motion, each
-///   step's error within relTol, over ~10^4 steps; measured 22 relTol at
-///   relTol 1e-5 (0.18 J of 811 J) and 53 relTol at 1e-6 (0.043 J): the
+///   step's error within relTol, over ~10^4 steps; measured 46 relTol at
+///   relTol 1e-5 (0.37 J of 815 J) and 69 relTol at 1e-6 (0.056 J): the
 ///   error falls with the tolerance. The crank's ripple is given continuous
 ///   (value and slope per step): a jump in a prescribed speed changes the
 ///   crank's kinetic energy without work.
