@@ -240,6 +240,8 @@ fn belt_losses_are_positive_and_in_the_energy_balance_of_the_accessory_drive() {
     let (mut e_belt, mut e_load) = (0.0, 0.0);
     // power.dissipated integrated at 0.1 ms and at 0.2 ms (every other sample)
     let (mut e_power, mut e_power_coarse, mut before) = (0.0, 0.0, first[1]);
+    // what clipping the belt's part of power.dissipated at 0 would add
+    let mut e_clipped = 0.0;
     let (mut min_loss, mut min_diss) = (f64::INFINITY, f64::INFINITY);
     for k in 0..steps {
         let t = k as f64 * h;
@@ -257,6 +259,7 @@ fn belt_losses_are_positive_and_in_the_energy_balance_of_the_accessory_drive() {
         e_belt += 0.5 * h * (prev[0] + o[0]);
         e_load += 0.5 * h * (load(&prev) + load(&o));
         e_power += 0.5 * h * (prev[1] + o[1]);
+        e_clipped += h * (load(&o) - o[1]).max(0.0);
         if k % 2 == 1 {
             e_power_coarse += h * (before + o[1]);
             before = o[1];
@@ -286,7 +289,9 @@ fn belt_losses_are_positive_and_in_the_energy_balance_of_the_accessory_drive() {
     let quadrature = (e_power - e_power_coarse).abs();
     println!(
         "power.dissipated integrated: {e_power:.4} J (at 0.2 ms {e_power_coarse:.4}), \
-         energy.dissipated {d_diss:.4} J"
+         energy.dissipated {d_diss:.4} J; the belt's part clipped at 0 would add {e_clipped:.3} J \
+         to its {:.3} J",
+        d_diss - e_load
     );
     assert!(
         (e_power - d_diss).abs() < 3.0 * quadrature + 1e-5 * d_diss,
