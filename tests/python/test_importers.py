@@ -167,10 +167,12 @@ def test_fmi_sim_sets_parameters_like_fmpy(fmi_sim, tmp_path):
                       init_values=[(k, fmt[type(v)](v)) for k, v in start.items()])
     # The speed-driven pulley follows the ramp exactly (-20 rad/s after 0.02 s).
     assert np.isclose(out["pulley[1].omega"][-1], -20.0, rtol=1e-12)
-    # Same start values and communication points: the runs differ only by
-    # FMPy's step-size arithmetic (see above), far below the tolerance here.
-    bound = {n: tol * np.max(np.abs(ref[n])) for n in names}
-    assert_agree(out, ref, names, bound)
+    # Same start values and communication points: the runs differ by FMPy's
+    # step-size arithmetic (see above), so to the level of the integration
+    # error: 4 e, e estimated from FMPy at tol and tol / 10 (module docstring).
+    tight = simulate_fmu(str(FMU), stop_time=stop, output_interval=step, relative_tolerance=tol / 10,
+                         start_values=start, output=names)
+    assert_agree(out, ref, names, {n: 4 * np.max(np.abs(ref[n] - tight[n])) for n in names})
 
 
 # --- libcosim, Ecos, fmu-manipulation-toolbox --------------------------------
