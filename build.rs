@@ -5,15 +5,24 @@
 //!
 //! * `$OUT_DIR/variables.rs`, included by `src/fmu/variables.rs`: the variable
 //!   table, `Var` (one variant per base name), `lookup`, `by_name`;
-//! * `$OUT_DIR/modelDescription.xml`, the description with its GUID.
+//! * `$OUT_DIR/modelDescription.xml`, the description with its GUID;
+//! * `$OUT_DIR/param_ranges.rs`, included by `src/belt/param_id.rs`: each
+//!   parameter id's declared range and unit (`Param::declared`), and
+//!   `$OUT_DIR/param_variables.rs`, included by `src/fmu/names.rs`: each
+//!   id's variable (`var_of`), both from the list in
+//!   `src/fmu/param_variables.rs`.
 
 use std::path::PathBuf;
 use std::{env, fs, process};
 
 const XML_PATH: &str = "modelDescription/modelDescription.xml";
+const IDS_PATH: &str = "src/fmu/param_variables.rs";
+
+include!("src/fmu/param_variables.rs");
 
 fn main() {
     println!("cargo:rerun-if-changed={XML_PATH}");
+    println!("cargo:rerun-if-changed={IDS_PATH}");
     println!("cargo:rerun-if-changed=build.rs");
 
     if let Err(e) = run() {
@@ -31,7 +40,16 @@ fn run() -> Result<(), String> {
         .map_err(|e| format!("cannot read the file: {e}"))?;
     let compiled = model_description::compile(&source)?;
     let table = model_description::rust_table(&compiled.description, &compiled.guid, "crate::fmi")?;
+    let params = model_description::param_tables(
+        &compiled.description,
+        PARAM_VARIABLES,
+        "Param",
+        "DeclaredRange",
+    )
+    .map_err(|e| format!("{e} (the list in {IDS_PATH})"))?;
     write(&out_dir.join("modelDescription.xml"), &compiled.xml)?;
+    write(&out_dir.join("param_ranges.rs"), &params.ranges)?;
+    write(&out_dir.join("param_variables.rs"), &params.variables)?;
     write(&out_dir.join("variables.rs"), &table)
 }
 

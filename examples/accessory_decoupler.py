@@ -82,30 +82,47 @@ def plot(results, t_from, path):
             ax[3, col].plot(t[w], res[f"pulley[{j}].hubLoad"][w], label=f"pulley {j}")
         ax[3, col].set_ylabel("hub load [N]")
         ax[3, col].set_xlabel("time [s]")
-    for a in ax.flat:
-        a.grid(True, alpha=0.3)
-        a.legend(loc="best", fontsize="x-small")
-    fig.suptitle("Accessory drive at idle with firing pulsation: rigid alternator pulley vs decoupler")
-    fig.tight_layout()
-    fig.savefig(path, dpi=100)
+    save_figure(fig, ax, "Accessory drive at idle with firing pulsation: rigid alternator pulley vs decoupler",
+                path)
     plt.close(fig)
 
 
-def main():
+def run_sets(sets, description, window_help, extra_outputs=()):
+    """Command line (--stop-time, --window, --fmu, --out-dir) and the runs of
+    each 4-pulley set with the stiff method, coupled with the idling engine:
+    (args, {name: result})."""
     import tempfile
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(description=description)
     ap.add_argument("--stop-time", type=float, default=1.5)
-    ap.add_argument("--window", type=float, default=1.0,
-                    help="figures from this time on [s] (the rotor's run-up transient decays by then)")
+    ap.add_argument("--window", type=float, default=1.0, help=window_help)
     ap.add_argument("--fmu", type=pathlib.Path, default=ROOT / "dist/BeltDrive.fmu")
     ap.add_argument("--out-dir", type=pathlib.Path, default=ROOT / "dist")
     args = ap.parse_args()
     results = {}
     with tempfile.TemporaryDirectory() as tmp:
-        for name, ssv in SETS.items():
+        for name, ssv in sets.items():
             assert start_values(ssv)["nPulleys"] == 4
             results[name] = ea.simulate(args.stop_time, 1e-3, with_method(ssv, 2, tmp), crank=1,
-                                        alternator=3, fmu=args.fmu)
+                                        alternator=3, fmu=args.fmu, extra_outputs=extra_outputs)
+    args.out_dir.mkdir(parents=True, exist_ok=True)
+    return args, results
+
+
+def save_figure(fig, ax, title, path):
+    """Grid and legends on every panel that has lines, the title, and the PNG."""
+    for a in ax.flat:
+        a.grid(True, alpha=0.3)
+        if a.get_legend_handles_labels()[0]:
+            a.legend(loc="upper right", fontsize="x-small")
+    fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    print(f"wrote {path}")
+
+
+def main():
+    args, results = run_sets(SETS, __doc__.splitlines()[0],
+                             "figures from this time on [s] (the rotor's run-up transient decays by then)")
     for name, res in results.items():
         s = summary(res, args.window)
         spans = ", ".join(f"{lo:.0f}-{hi:.0f}" for lo, hi in s["span tension ranges [N]"])
@@ -113,9 +130,7 @@ def main():
               f"pulley {s['pulley speed range [rpm]'][0]:.0f}-{s['pulley speed range [rpm]'][1]:.0f} rpm, "
               f"rotor {s['rotor speed range [rpm]'][0]:.0f}-{s['rotor speed range [rpm]'][1]:.0f} rpm; "
               f"span tensions {spans} N")
-    args.out_dir.mkdir(parents=True, exist_ok=True)
     plot(results, args.window, args.out_dir / "accessory_decoupler.png")
-    print(f"wrote {args.out_dir / 'accessory_decoupler.png'}")
 
 
 if __name__ == "__main__":

@@ -12,7 +12,6 @@ the run-up, the slack span tensions (mean and range), the arm's angle and the
 idler's hub load; writes <out-dir>/accessory_tensioner.png (arm angle and
 spring torque, hub loads, span tensions, alternator rotor vs pulley speed).
 """
-import argparse
 import pathlib
 import sys
 
@@ -20,8 +19,7 @@ import numpy as np
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import engine_alternator as ea  # noqa: E402
-from accessory_decoupler import with_method  # noqa: E402
-from simulate_ssv import start_values  # noqa: E402
+from accessory_decoupler import run_sets, save_figure  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 SETS = {"idler fixed": ROOT / "parameters/accessory-drive-decoupler.ssv",
@@ -72,33 +70,16 @@ def plot(results, t_from, path):
         ax[3, col].plot(t[w], -res["alternator.rotorOmega"][w] * ea.RPM, label="alternator rotor")
         ax[3, col].set_ylabel("speed (clockwise) [rpm]")
         ax[3, col].set_xlabel("time [s]")
-    for a in ax.flat:
-        a.grid(True, alpha=0.3)
-        if a.get_legend_handles_labels()[0]:
-            a.legend(loc="upper right", fontsize="x-small")
-    fig.suptitle("Accessory drive at idle with firing pulsation: idler fixed vs on a tensioner arm "
-                 "(decoupler on the alternator in both)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=100)
+    save_figure(fig, ax, "Accessory drive at idle with firing pulsation: idler fixed vs on a tensioner arm "
+                "(decoupler on the alternator in both)", path)
     plt.close(fig)
 
 
 def main():
-    import tempfile
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--stop-time", type=float, default=1.5)
-    ap.add_argument("--window", type=float, default=1.0,
-                    help="figures from this time on [s] (the run-up transient decays by then)")
-    ap.add_argument("--fmu", type=pathlib.Path, default=ROOT / "dist/BeltDrive.fmu")
-    ap.add_argument("--out-dir", type=pathlib.Path, default=ROOT / "dist")
-    args = ap.parse_args()
-    results = {}
-    with tempfile.TemporaryDirectory() as tmp:
-        for name, ssv in SETS.items():
-            assert start_values(ssv)["nPulleys"] == 4
-            # the arm outputs are 0 without an arm
-            results[name] = ea.simulate(args.stop_time, 1e-3, with_method(ssv, 2, tmp), crank=1,
-                                        alternator=3, fmu=args.fmu, extra_outputs=ARM)
+    # the arm outputs are 0 without an arm
+    args, results = run_sets(SETS, __doc__.splitlines()[0],
+                             "figures from this time on [s] (the run-up transient decays by then)",
+                             extra_outputs=ARM)
     for name, res in results.items():
         s = summary(res, args.window)
         spans = ", ".join(f"{m:.0f} ({lo:.0f}-{hi:.0f})"
@@ -109,9 +90,7 @@ def main():
             lo, hi = s["arm angle [deg] (min, max)"]
             line += f"; arm angle {lo:.2f} to {hi:.2f} deg"
         print(line)
-    args.out_dir.mkdir(parents=True, exist_ok=True)
     plot(results, args.window, args.out_dir / "accessory_tensioner.png")
-    print(f"wrote {args.out_dir / 'accessory_tensioner.png'}")
 
 
 if __name__ == "__main__":

@@ -38,9 +38,10 @@ fn ref_wrap_angle(a: f64) -> f64 {
 /// bodies). `mag[row]` receives the sum of the absolute values of the terms
 /// added into `dy[row]`: the scale of the comparison; `sde_mag[k]` that of
 /// the tension of SDE k.
-#[allow(clippy::needless_range_loop)] // kept as first written
+#[allow(clippy::needless_range_loop, clippy::too_many_arguments)] // kept as first written
 fn reference_rhs<R: Recorder>(
     s: &BeltSystem,
+    lever: &[f64],
     t: f64,
     y: &[f64],
     dy: &mut [f64],
@@ -131,7 +132,7 @@ fn reference_rhs<R: Recorder>(
             let p_dot = -(vx * nx + vy * ny);
             let (normal, elastic) = s.contact().normal_force(p, p_dot, pc.inv_p_max);
             let (tx, ty) = (-ny, nx);
-            let v_t = omega_p[j] * pc.radius - (vx * tx + vy * ty);
+            let v_t = omega_p[j] * lever[j] - (vx * tx + vy * ty);
             let zf = s.zone_factor()[i];
             let mu = s.friction().coefficient(v_t, z, pc.mu_s * zf, pc.mu_k * zf);
             let f = mu * normal;
@@ -143,8 +144,8 @@ fn reference_rhs<R: Recorder>(
             hub_mag[j] += normal.abs() + f.abs();
             mag[o + 3] += normal.abs() + f.abs();
             mag[o + 4] += normal.abs() + f.abs();
-            belt_torque[j] -= pc.radius * f;
-            belt_torque_mag[j] += (pc.radius * f).abs();
+            belt_torque[j] -= lever[j] * f;
+            belt_torque_mag[j] += (lever[j] * f).abs();
             dz += s.friction().creep_rate(v_t, z);
             mag[o + 6] += v_t.abs();
             let pd = (normal - elastic) * p_dot + f * v_t;
@@ -368,12 +369,21 @@ fn max_abs(it: impl Iterator<Item = f64>) -> f64 {
 
 /// Compares the optimised right-hand side with the reference at (t, y),
 /// without and with recording. Returns what the state exercised.
-fn compare(sys: &BeltSystem, t: f64, y: &[f64], label: &str) -> Exercised {
+fn compare(sys: &BeltSystem, lever: &[f64], t: f64, y: &[f64], label: &str) -> Exercised {
     let dim = sys.dim();
     let (mut dy_ref, mut mag) = (vec![0.0; dim], vec![0.0; dim]);
     let mut sde_mag = vec![0.0; sys.n_bodies()];
     let mut log_ref = Log::default();
-    reference_rhs(sys, t, y, &mut dy_ref, &mut mag, &mut sde_mag, &mut log_ref);
+    reference_rhs(
+        sys,
+        lever,
+        t,
+        y,
+        &mut dy_ref,
+        &mut mag,
+        &mut sde_mag,
+        &mut log_ref,
+    );
 
     // Garbage in dy must not leak into the result.
     let mut dy = vec![f64::NAN; dim];
@@ -655,6 +665,21 @@ fn check_drive(which: usize) {
     {
         let (name, p) = drives().swap_remove(which);
         let mut d = Drive::new(&p, 0.0).expect("valid drive");
+        // The friction lever of each pulley (docs/model.md, "Chordal
+        // effect"): a chain of straight bodies of length l whose centres
+        // rest at r - p0 spans 2 atan(h) per body, h = l / (2 (r - p0)), so
+        // the surface speed omega r atan(h) / h runs its spans at omega r.
+        let l = d.layout().body_length;
+        let lever: Vec<f64> = p
+            .pulleys
+            .iter()
+            .enumerate()
+            .map(|(j, q)| {
+                let p0 = d.layout().wrap_of(j).map_or(0.0, |w| w.penetration);
+                let h = l / (2.0 * (q.radius - p0));
+                q.radius * h.atan() / h
+            })
+            .collect();
         // Inputs with rates: torque and speed ramps inside the step.
         let mut inputs = Inputs::default();
         for j in 0..p.pulleys.len() {
@@ -671,13 +696,19 @@ fn check_drive(which: usize) {
             d.advance(t_end).expect("runs");
             let (t, y) = (d.time(), d.state().to_vec());
             let mut sys = d.system().clone();
-            ex += compare(&sys, t, &y, &format!("{name} running t = {t}"));
+            ex += compare(&sys, &lever, t, &y, &format!("{name} running t = {t}"));
             states += 1;
             for k in 0..6 {
                 let amp = [0.0, 0.01, 0.1, 0.5, 1.0, 3.0][k];
                 let yp = perturb(&sys, &y, &mut rng, amp);
                 let tp = t + 0.01 * rng.sym().abs();
-                ex += compare(&sys, tp, &yp, &format!("{name} random {k} t = {tp}"));
+                ex += compare(
+                    &sys,
+                    &lever,
+                    tp,
+                    &yp,
+                    &format!("{name} random {k} t = {tp}"),
+                );
                 states += 1;
             }
             // The equilibrium relaxation's mass-proportional damping.
@@ -686,7 +717,7 @@ fn check_drive(which: usize) {
                 ..Relaxation::NONE
             });
             let yp = perturb(&sys, &y, &mut rng, 0.3);
-            ex += compare(&sys, t, &yp, &format!("{name} relax damping"));
+            ex += compare(&sys, &lever, t, &yp, &format!("{name} relax damping"));
             states += 1;
         }
         let worst = WORST.with(|w| w.get());

@@ -332,9 +332,22 @@ pub(crate) fn check_range(v: &Variable) -> Result<(), String> {
             .ok_or_else(|| format!("{key}=\"{s}\" is not a valid {}", v.ty))
     };
     let (min, max) = (bound("min", &v.min)?, bound("max", &v.max)?);
+    for (open, bound, key) in [(v.min_exclusive, min, "min"), (v.max_exclusive, max, "max")] {
+        if open && bound.is_none() {
+            return Err(format!(
+                "the {} annotation makes {key} exclusive, but no {key} is declared",
+                crate::parse::RANGE_TOOL
+            ));
+        }
+    }
     if let (Some(lo), Some(hi)) = (min, max) {
         if lo > hi {
             return Err(format!("min = {lo} is greater than max = {hi}"));
+        }
+        if lo == hi && (v.min_exclusive || v.max_exclusive) {
+            return Err(format!(
+                "min = max = {lo} with an exclusive end leaves no value"
+            ));
         }
     }
     if let Some(x) = v
@@ -342,11 +355,15 @@ pub(crate) fn check_range(v: &Variable) -> Result<(), String> {
         .as_deref()
         .and_then(|s| s.trim().parse::<f64>().ok())
     {
-        if min.is_some_and(|lo| x < lo) || max.is_some_and(|hi| x > hi) {
+        let below = min.is_some_and(|lo| x < lo || (v.min_exclusive && x == lo));
+        let above = max.is_some_and(|hi| x > hi || (v.max_exclusive && x == hi));
+        if below || above {
             return Err(format!(
-                "start = {x} is outside [{}, {}]",
+                "start = {x} is outside {}{}, {}{}",
+                if v.min_exclusive { "(" } else { "[" },
                 v.min.as_deref().unwrap_or("-inf"),
-                v.max.as_deref().unwrap_or("inf")
+                v.max.as_deref().unwrap_or("inf"),
+                if v.max_exclusive { ")" } else { "]" },
             ));
         }
     }
@@ -440,6 +457,14 @@ mod tests {
             ("<Real declaredType=\"L\" start=\"0\"/>", "<Real declaredType=\"X\" start=\"0\"/>", "declaredType \"X\" is not in <TypeDefinitions>"),
             ("<Real declaredType=\"L\" start=\"0\"/>", "<Real declaredType=\"L\" unit=\"ft\" start=\"0\"/>", "unit \"ft\" is not in <UnitDefinitions>"),
             ("description=\"d\" causality=\"input\"", "description=\" \" causality=\"input\"", "has no description"),
+            // exclusive ends (the BeltDrive range annotation)
+            ("<Real declaredType=\"L\" start=\"0\"/>", "<Real declaredType=\"L\" start=\"0\" min=\"0\"/><Annotations><Tool name=\"BeltDrive\"><Range min=\"exclusive\"/></Tool></Annotations>", "start = 0 is outside (0, inf]"),
+            ("<Real declaredType=\"L\" start=\"0\"/>", "<Real declaredType=\"L\" start=\"1\" min=\"0\" max=\"1\"/><Annotations><Tool name=\"BeltDrive\"><Range max=\"exclusive\"/></Tool></Annotations>", "start = 1 is outside [0, 1)"),
+            ("<Real declaredType=\"L\" start=\"0\"/>", "<Real declaredType=\"L\" start=\"0\"/><Annotations><Tool name=\"BeltDrive\"><Range max=\"exclusive\"/></Tool></Annotations>", "makes max exclusive, but no max is declared"),
+            ("<Real declaredType=\"L\" start=\"0\"/>", "<Real declaredType=\"L\" start=\"1\" min=\"1\" max=\"1\"/><Annotations><Tool name=\"BeltDrive\"><Range min=\"exclusive\"/></Tool></Annotations>", "leaves no value"),
+            ("<Real declaredType=\"L\" start=\"0\"/>", "<Real declaredType=\"L\" start=\"0.5\" min=\"0\" max=\"1\"/><Annotations><Tool name=\"BeltDrive\"><Range min=\"exclusive\" max=\"exclusive\"/></Tool></Annotations>", ""),
+            // another tool's annotation is not ours
+            ("<Real declaredType=\"L\" start=\"0\"/>", "<Real declaredType=\"L\" start=\"0\" min=\"0\"/><Annotations><Tool name=\"Other\"><Range min=\"exclusive\"/></Tool></Annotations>", ""),
         ];
         for (from, to, needle) in cases {
             let md = parse(&OK.replacen(from, to, 1)).unwrap();

@@ -8,6 +8,8 @@
 //! * [`parse`]: the XML into [`ModelDescription`] (line numbers kept);
 //! * [`check`]: the rules of FMI 2.0 section 2.2 and of the generated table;
 //! * [`rust_table`]: the Rust source of the variable table;
+//! * [`param_tables`]: the Rust source that gives a model's parameter ids
+//!   their declared ranges and variables;
 //! * [`guid`]: the GUID, a hash of the file's text;
 //! * [`compile`]: all of the above for one file;
 //! * [`platform`]: where the binary goes in the FMU archive;
@@ -23,8 +25,10 @@ pub mod platform;
 pub mod ssv;
 
 pub use check::{check, effective_initial};
-pub use generate::{rust_table, variant_and_index};
-pub use parse::{parse, LogCategory, ModelDescription, SimpleType, Unit, Unknown, Variable};
+pub use generate::{param_tables, rust_table, variant_and_index, ParamTables};
+pub use parse::{
+    parse, LogCategory, ModelDescription, SimpleType, Unit, Unknown, Variable, RANGE_TOOL,
+};
 
 /// A checked model description ready to be packaged.
 #[derive(Clone, Debug)]

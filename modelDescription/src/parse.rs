@@ -109,7 +109,24 @@ pub struct Variable {
     pub min: Option<String>,
     /// `max`, as written.
     pub max: Option<String>,
+    /// The range excludes `min` (FMI's `min` is inclusive; see
+    /// [`RANGE_TOOL`]).
+    pub min_exclusive: bool,
+    /// The range excludes `max`.
+    pub max_exclusive: bool,
 }
+
+/// The `name` of the `<Tool>` annotation of a ScalarVariable that says which
+/// ends of its range are exclusive, e.g. `pulley[1].radius` must be > 0:
+///
+/// ```xml
+/// <Real declaredType="Length" start="0.027" min="0"/>
+/// <Annotations><Tool name="BeltDrive"><Range min="exclusive"/></Tool></Annotations>
+/// ```
+///
+/// FMI 2.0 has no exclusive bounds; importers read `min`/`max` (inclusive)
+/// and ignore the annotation, the model refuses a value on the excluded end.
+pub const RANGE_TOOL: &str = "BeltDrive";
 
 /// An `<Unknown>` of the model structure.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -239,6 +256,8 @@ pub fn parse(xml: &str) -> Result<ModelDescription, String> {
     let mut md = ModelDescription::default();
     let mut stack: Vec<String> = Vec::new();
     let mut current: Option<Variable> = None;
+    // `name` of the `<Tool>` annotation being read inside a ScalarVariable
+    let mut tool: Option<String> = None;
     let mut root_seen = false;
     let mut lines = Lines {
         xml,
@@ -378,6 +397,23 @@ pub fn parse(xml: &str) -> Result<ModelDescription, String> {
                 v.min = a.get("min");
                 v.max = a.get("max");
             }
+            (Some("Annotations"), "Tool") if current.is_some() => tool = a.get("name"),
+            (Some("Tool"), "Range") if current.is_some() && tool.as_deref() == Some(RANGE_TOOL) => {
+                let v = current
+                    .as_mut()
+                    .ok_or("internal: Range outside ScalarVariable")?;
+                let end = |key: &str| -> Result<bool, String> {
+                    match a.get(key).as_deref() {
+                        None | Some("inclusive") => Ok(false),
+                        Some("exclusive") => Ok(true),
+                        Some(other) => Err(format!(
+                            "line {line}: <Range {key}=\"{other}\">: use \"exclusive\" or \"inclusive\""
+                        )),
+                    }
+                };
+                v.min_exclusive = end("min")?;
+                v.max_exclusive = end("max")?;
+            }
             (Some(list @ ("Outputs" | "InitialUnknowns" | "Derivatives")), "Unknown") => {
                 let numbers = |key: &str| -> Result<Option<Vec<usize>>, String> {
                     a.get(key)
@@ -506,5 +542,31 @@ mod tests {
         let e = parse(&SMALL.replace("</ModelVariables>", "")).unwrap_err();
         assert!(e.contains("malformed XML"), "{e}");
         assert!(parse("").unwrap_err().contains("no <fmiModelDescription>"));
+        let e = parse(&SMALL.replace(
+            "<Real declaredType=\"Length\"/>",
+            "<Real declaredType=\"Length\"/><Annotations><Tool name=\"BeltDrive\"><Range min=\"open\"/></Tool></Annotations>",
+        ))
+        .unwrap_err();
+        assert!(e.contains("line 17: <Range min=\"open\">"), "{e}");
+    }
+
+    #[test]
+    fn reads_exclusive_ends() {
+        let annotated = |tool: &str| {
+            SMALL.replace(
+                "<Integer start=\"2\" min=\"1\" max=\"6\"/>",
+                &format!(
+                    "<Integer start=\"2\" min=\"1\" max=\"6\"/><Annotations><Tool name=\"{tool}\">\
+                     <Range min=\"exclusive\" max=\"inclusive\"/></Tool></Annotations>"
+                ),
+            )
+        };
+        let md = parse(&annotated("BeltDrive")).unwrap();
+        let n = &md.variables[0];
+        assert!(n.min_exclusive && !n.max_exclusive);
+        assert!(!md.variables[1].min_exclusive);
+        let md = parse(&annotated("SomeTool")).unwrap();
+        assert!(!md.variables[0].min_exclusive);
+        assert!(!parse(SMALL).unwrap().variables[0].min_exclusive);
     }
 }

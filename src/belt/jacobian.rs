@@ -627,9 +627,9 @@ impl BeltSystem {
                     aj.ar -= dc.dot(&f_r) * inv;
                     // impulse rows: the belt torque -r f and the hub force
                     // -F through the moving centre
-                    aj.ta += pc.radius
+                    aj.ta += pc.lever
                         * (cp.fric_x.dot(&dc.transpose()) + cp.fric_v.dot(&ddc.transpose()));
-                    aj.tr += pc.radius * cp.fric_v.dot(&dc.transpose());
+                    aj.tr += pc.lever * cp.fric_v.dot(&dc.transpose());
                     aj.fa -= f_a;
                     aj.fr -= f_r;
                     if !pc.speed_driven {

@@ -382,7 +382,12 @@ impl BeltSystem {
                 cy: p.y,
                 radius: p.radius,
                 radius2: p.radius * p.radius,
-                lever: p.radius,
+                // the chordal effect of the straight bodies (elements::contact)
+                lever: contact::chordal_lever(
+                    p.radius,
+                    layout.wrap_of(j).map_or(0.0, |w| w.penetration),
+                    l,
+                ),
                 inv_inertia: 1.0 / p.inertia,
                 inertia: p.inertia,
                 // the groove's wedge effect (elements::groove)

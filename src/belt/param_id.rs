@@ -5,124 +5,156 @@
 //! pulley references) in it, so that each layer can spell
 //! them its own way.
 
-/// A parameter of the drive. Pulley parameters carry the pulley's index
-/// (0-based, in the listed belt order).
-#[allow(missing_docs)] // each variant is the parameter of the same name in `DriveParams`
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Param {
-    /// Number of pulleys (the length of `DriveParams::pulleys`).
-    PulleyCount,
-    BeltBodies,
-    BeltPreload,
-    BeltEa,
-    BeltAxialDamping,
-    BeltBendingStiffness,
-    BeltBendingDamping,
-    BeltMassPerLength,
-    ContactC1,
-    ContactC2,
-    ContactDamping,
-    ContactPMax,
-    FrictionLaw,
-    FrictionDv,
-    FrictionCreepMax,
-    FrictionCreepDampingTime,
-    FrictionZoneFactor,
-    FrictionZoneStart,
-    FrictionZoneBodies,
-    Gravity,
-    ProbeBody,
-    SolverMethod,
-    SolverRelTol,
-    SolverAbsTol,
-    SolverInitialStep,
-    SolverMaxSteps,
-    PulleyX(usize),
-    PulleyY(usize),
-    PulleyRadius(usize),
-    PulleyInertia(usize),
-    PulleyMuStatic(usize),
-    PulleyMuKinetic(usize),
-    PulleyLoadDamping(usize),
-    PulleyTorqueRamp(usize),
-    PulleyOmegaRamp(usize),
-    PulleyRampTime(usize),
-    PulleyGrooveAngle(usize),
-    PulleyBackSide(usize),
-    PulleyDecoupler(usize),
-    PulleyDecouplerStiffness(usize),
-    PulleyDecouplerDamping(usize),
-    PulleyRotorInertia(usize),
-    PulleyTensioner(usize),
-    PulleyArmPivotX(usize),
-    PulleyArmPivotY(usize),
-    PulleyArmInertia(usize),
-    PulleyArmStiffness(usize),
-    PulleyArmDamping(usize),
-    PulleyArmFriction(usize),
+/// Defines [`Param`] from one list: each variant with the name a mechanical
+/// engineer knows it by (its `Display` and doc), the drive's parameters
+/// first, then each pulley's (which carry the pulley's 0-based index).
+macro_rules! params {
+    (
+        drive { $($d:ident => $dname:literal,)* }
+        pulley { $($p:ident => $pname:literal,)* }
+    ) => {
+        /// A parameter of the drive. Pulley parameters carry the pulley's
+        /// index (0-based, in the listed belt order). Its range:
+        /// [`Param::declared`].
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        pub enum Param {
+            $(#[doc = $dname] $d,)*
+            $(#[doc = concat!("pulley ", $pname)] $p(usize),)*
+        }
+
+        impl Param {
+            /// Every parameter id: the drive's, then those of `pulleys`
+            /// pulleys, pulley by pulley.
+            pub fn all(pulleys: usize) -> impl Iterator<Item = Param> {
+                [$(Param::$d),*]
+                    .into_iter()
+                    .chain((0..pulleys).flat_map(|j| [$(Param::$p(j)),*]))
+            }
+        }
+
+        impl std::fmt::Display for Param {
+            /// The parameter as a mechanical engineer names it (the FMU
+            /// layer uses its variable names instead).
+            fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                match self {
+                    $(Param::$d => f.write_str($dname),)*
+                    $(Param::$p(j) => write!(f, "pulley {} {}", j + 1, $pname),)*
+                }
+            }
+        }
+    };
 }
 
-impl std::fmt::Display for Param {
-    /// The parameter as a mechanical engineer names it (the FMU layer uses
-    /// its variable names instead).
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        use Param::*;
-        let pulley = |f: &mut std::fmt::Formatter<'_>, j: &usize, what: &str| {
-            write!(f, "pulley {} {what}", j + 1)
-        };
-        match self {
-            PulleyCount => f.write_str("number of pulleys"),
-            BeltBodies => f.write_str("number of belt bodies"),
-            BeltPreload => f.write_str("belt preload"),
-            BeltEa => f.write_str("belt axial stiffness EA"),
-            BeltAxialDamping => f.write_str("belt axial damping"),
-            BeltBendingStiffness => f.write_str("belt bending stiffness"),
-            BeltBendingDamping => f.write_str("belt bending damping"),
-            BeltMassPerLength => f.write_str("belt mass per length"),
-            ContactC1 => f.write_str("contact stiffness c1"),
-            ContactC2 => f.write_str("contact stiffness c2"),
-            ContactDamping => f.write_str("contact damping"),
-            ContactPMax => f.write_str("contact damping ramp p_max"),
-            FrictionLaw => f.write_str("friction law"),
-            FrictionDv => f.write_str("friction transition velocity dv"),
-            FrictionCreepMax => f.write_str("friction creep displacement max"),
-            FrictionCreepDampingTime => f.write_str("friction creep damping time"),
-            FrictionZoneFactor => f.write_str("friction zone factor"),
-            FrictionZoneStart => f.write_str("friction zone start body"),
-            FrictionZoneBodies => f.write_str("friction zone bodies"),
-            Gravity => f.write_str("gravity"),
-            ProbeBody => f.write_str("probe body"),
-            SolverMethod => f.write_str("integrator"),
-            SolverRelTol => f.write_str("relative tolerance"),
-            SolverAbsTol => f.write_str("absolute tolerance"),
-            SolverInitialStep => f.write_str("initial step"),
-            SolverMaxSteps => f.write_str("step-count guard"),
-            PulleyX(j) => pulley(f, j, "centre x"),
-            PulleyY(j) => pulley(f, j, "centre y"),
-            PulleyRadius(j) => pulley(f, j, "radius"),
-            PulleyInertia(j) => pulley(f, j, "inertia"),
-            PulleyMuStatic(j) => pulley(f, j, "static friction coefficient"),
-            PulleyMuKinetic(j) => pulley(f, j, "kinetic friction coefficient"),
-            PulleyLoadDamping(j) => pulley(f, j, "load damping"),
-            PulleyTorqueRamp(j) => pulley(f, j, "torque ramp"),
-            PulleyOmegaRamp(j) => pulley(f, j, "speed ramp"),
-            PulleyRampTime(j) => pulley(f, j, "ramp time"),
-            PulleyGrooveAngle(j) => pulley(f, j, "groove angle"),
-            PulleyBackSide(j) => pulley(f, j, "back side"),
-            PulleyDecoupler(j) => pulley(f, j, "decoupler"),
-            PulleyDecouplerStiffness(j) => pulley(f, j, "decoupler stiffness"),
-            PulleyDecouplerDamping(j) => pulley(f, j, "decoupler damping"),
-            PulleyRotorInertia(j) => pulley(f, j, "rotor inertia"),
-            PulleyTensioner(j) => pulley(f, j, "tensioner"),
-            PulleyArmPivotX(j) => pulley(f, j, "tensioner pivot x"),
-            PulleyArmPivotY(j) => pulley(f, j, "tensioner pivot y"),
-            PulleyArmInertia(j) => pulley(f, j, "tensioner arm inertia"),
-            PulleyArmStiffness(j) => pulley(f, j, "tensioner spring stiffness"),
-            PulleyArmDamping(j) => pulley(f, j, "tensioner arm damping"),
-            PulleyArmFriction(j) => pulley(f, j, "tensioner pivot friction"),
-        }
+params! {
+    drive {
+        PulleyCount => "number of pulleys",
+        BeltBodies => "number of belt bodies",
+        BeltPreload => "belt preload",
+        BeltEa => "belt axial stiffness EA",
+        BeltAxialDamping => "belt axial damping",
+        BeltBendingStiffness => "belt bending stiffness",
+        BeltBendingDamping => "belt bending damping",
+        BeltMassPerLength => "belt mass per length",
+        ContactC1 => "contact stiffness c1",
+        ContactC2 => "contact stiffness c2",
+        ContactDamping => "contact damping",
+        ContactPMax => "contact damping ramp p_max",
+        FrictionLaw => "friction law",
+        FrictionDv => "friction transition velocity dv",
+        FrictionCreepMax => "friction creep displacement max",
+        FrictionCreepDampingTime => "friction creep damping time",
+        FrictionZoneFactor => "friction zone factor",
+        FrictionZoneStart => "friction zone start body",
+        FrictionZoneBodies => "friction zone bodies",
+        Gravity => "gravity",
+        ProbeBody => "probe body",
+        SolverMethod => "integrator",
+        SolverRelTol => "relative tolerance",
+        SolverAbsTol => "absolute tolerance",
+        SolverInitialStep => "initial step",
+        SolverMaxSteps => "step-count guard",
+    }
+    pulley {
+        PulleyX => "centre x",
+        PulleyY => "centre y",
+        PulleyRadius => "radius",
+        PulleyInertia => "inertia",
+        PulleyMuStatic => "static friction coefficient",
+        PulleyMuKinetic => "kinetic friction coefficient",
+        PulleyLoadDamping => "load damping",
+        PulleyTorqueRamp => "torque ramp",
+        PulleyOmegaRamp => "speed ramp",
+        PulleyRampTime => "ramp time",
+        PulleyGrooveAngle => "groove angle",
+        PulleyBackSide => "back side",
+        PulleyDecoupler => "decoupler",
+        PulleyDecouplerStiffness => "decoupler stiffness",
+        PulleyDecouplerDamping => "decoupler damping",
+        PulleyRotorInertia => "rotor inertia",
+        PulleyTensioner => "tensioner",
+        PulleyArmPivotX => "tensioner pivot x",
+        PulleyArmPivotY => "tensioner pivot y",
+        PulleyArmInertia => "tensioner arm inertia",
+        PulleyArmStiffness => "tensioner spring stiffness",
+        PulleyArmDamping => "tensioner arm damping",
+        PulleyArmFriction => "tensioner pivot friction",
     }
 }
+
+/// A parameter's declared range and unit, as the model description states
+/// them (generated: [`Param::declared`]). FMI's `min` and `max` are
+/// inclusive; an end marked exclusive (the model description's range
+/// annotation) is the limit the value must pass, e.g. a radius > 0.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DeclaredRange {
+    /// Lower bound (`None`: unbounded).
+    pub min: Option<f64>,
+    /// Upper bound (`None`: unbounded).
+    pub max: Option<f64>,
+    /// `min` itself is outside the range.
+    pub min_exclusive: bool,
+    /// `max` itself is outside the range.
+    pub max_exclusive: bool,
+    /// SI unit (empty: dimensionless or none).
+    pub unit: &'static str,
+}
+
+impl DeclaredRange {
+    /// Whether `x` is finite and inside the range.
+    pub fn contains(&self, x: f64) -> bool {
+        let above_min = self
+            .min
+            .is_none_or(|lo| x > lo || (!self.min_exclusive && x == lo));
+        let below_max = self
+            .max
+            .is_none_or(|hi| x < hi || (!self.max_exclusive && x == hi));
+        x.is_finite() && above_min && below_max
+    }
+
+    /// The range as a refusal states it: `finite and > 0 m`,
+    /// `finite and in [0, 1] s`, `finite` (no bounds).
+    pub fn describe(&self) -> String {
+        let unit = match self.unit {
+            "" | "1" => String::new(),
+            u => format!(" {u}"),
+        };
+        let range = match (self.min, self.max) {
+            (None, None) => return "finite".into(),
+            (Some(lo), None) => format!("{} {lo}", if self.min_exclusive { ">" } else { ">=" }),
+            (None, Some(hi)) => format!("{} {hi}", if self.max_exclusive { "<" } else { "<=" }),
+            (Some(lo), Some(hi)) => format!(
+                "in {}{lo}, {hi}{}",
+                if self.min_exclusive { "(" } else { "[" },
+                if self.max_exclusive { ")" } else { "]" }
+            ),
+        };
+        format!("finite and {range}{unit}")
+    }
+}
+
+// `impl Param { pub const fn declared(self) -> DeclaredRange }`, generated
+// by build.rs from the model description.
+include!(concat!(env!("OUT_DIR"), "/param_ranges.rs"));
 
 /// One piece of a [`Message`].
 #[derive(Clone, Debug, PartialEq)]

@@ -7,10 +7,19 @@
 //! mesh models the same belt. See `docs/model.md`, "Parameters".
 
 use super::elements::groove::MIN_GROOVE_ANGLE;
-use super::param_id::{msg, Message, Param, Part};
+use super::param_id::{msg, Message, Param, Part, Plain, Spelling};
 
-/// Number of pulley slots.
-pub const MAX_PULLEYS: usize = 6;
+/// Number of pulley slots: the largest pulley count the model description
+/// declares.
+pub const MAX_PULLEYS: usize = declared_max(Param::PulleyCount);
+
+/// The declared maximum of a count parameter, at compile time.
+const fn declared_max(p: Param) -> usize {
+    match p.declared().max {
+        Some(m) => m as usize,
+        None => panic!("the model description declares no maximum"),
+    }
+}
 
 /// The belt-pulley friction law (section 2.2).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -369,9 +378,22 @@ pub struct ParamError {
     pub message: Message,
 }
 
+impl ParamError {
+    /// The error as text, the parameter spelt `name` and the message by
+    /// `s`: `name must be ... (got ...)` for a range, `name: ...` otherwise.
+    pub fn render(&self, name: &str, s: &dyn Spelling) -> String {
+        let message = self.message.render(s);
+        if message.starts_with("must ") {
+            format!("{name} {message}")
+        } else {
+            format!("{name}: {message}")
+        }
+    }
+}
+
 impl std::fmt::Display for ParamError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{}: {}", self.parameter, self.message)
+        f.write_str(&self.render(&self.parameter.to_string(), &Plain))
     }
 }
 
@@ -396,18 +418,16 @@ impl From<String> for Message {
     }
 }
 
-/// Largest body count accepted, to bound the work of one call: mounting
-/// (the equilibrium relaxation in `Drive::new`) grows faster than n^2 with
-/// the body count (2-core development machine: 150 bodies 0.09 s, 600 1.2 s,
-/// 1200 6.6 s, 2400 83 s), and so does the cost per simulated second.
-pub const MAX_BODIES: usize = 2_000;
+/// Largest body count accepted (the model description's maximum of the
+/// body count), to bound the work of one call: mounting (the equilibrium
+/// relaxation in `Drive::new`) grows faster than n^2 with the body count
+/// (2-core development machine: 150 bodies 0.09 s, 600 1.2 s, 1200 6.6 s,
+/// 2400 83 s), and so does the cost per simulated second.
+pub const MAX_BODIES: usize = declared_max(Param::BeltBodies);
 
 /// Shortest tensioner arm accepted [m]: the pivot must not sit at the
 /// pulley centre (the arm would have no lever for the hub force).
 pub const MIN_ARM_LENGTH: f64 = 1e-3;
-
-/// Largest pulley coordinate accepted [m].
-pub const MAX_COORDINATE: f64 = 1000.0;
 
 fn check(ok: bool, name: Param, what: impl Into<Message>, value: f64) -> Result<(), ParamError> {
     if ok {
@@ -415,56 +435,103 @@ fn check(ok: bool, name: Param, what: impl Into<Message>, value: f64) -> Result<
     } else {
         let mut m = msg!["must be "];
         m.0.extend(what.into().0);
-        m.0.push(Part::from(format!(" (got {value})")));
+        m.0.push(Part::from(format!(" (got {})", shown(value))));
         Err(param_error(name, m))
     }
 }
 
-fn positive(name: Param, v: f64) -> Result<(), ParamError> {
-    check(v.is_finite() && v > 0.0, name, "finite and > 0", v)
+/// A value as a refusal shows it: `0.027`, `1e300` (not 301 digits).
+fn shown(x: f64) -> String {
+    if x != 0.0 && x.is_finite() && !(1e-4..1e6).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
 }
 
-fn non_negative(name: Param, v: f64) -> Result<(), ParamError> {
-    check(v.is_finite() && v >= 0.0, name, "finite and >= 0", v)
+/// `v` is finite and inside `p`'s declared range ([`Param::declared`]):
+/// the one check of every single-parameter range.
+fn declared(p: Param, v: f64) -> Result<(), ParamError> {
+    let r = p.declared();
+    check(r.contains(v), p, r.describe(), v)
 }
 
-fn finite(name: Param, v: f64) -> Result<(), ParamError> {
-    check(v.is_finite(), name, "finite", v)
+/// A count `n` inside `p`'s declared (integer) range.
+fn declared_count(p: Param, n: usize) -> Result<(), ParamError> {
+    let r = p.declared();
+    let x = n as f64;
+    let range = match (r.min, r.max) {
+        (Some(lo), Some(hi)) => format!("in {lo}..={hi}"),
+        (Some(lo), None) => format!(">= {lo}"),
+        (None, Some(hi)) => format!("<= {hi}"),
+        (None, None) => return Ok(()),
+    };
+    if r.min.is_some_and(|lo| x < lo) || r.max.is_some_and(|hi| x > hi) {
+        return Err(param_error(p, format!("must be {range} (got {n})")));
+    }
+    Ok(())
+}
+
+/// `v` > 0 where the declared range starts at 0 inclusive because 0 is
+/// valid while a feature is off: `p` must be positive when `flag` is set.
+fn positive_when(p: Param, flag: Param, v: f64) -> Result<(), ParamError> {
+    check(v > 0.0, p, msg!["> 0 when ", flag, " is set"], v)
+}
+
+impl PulleyParams {
+    /// Checks each parameter of the pulley with index `j` against its
+    /// declared range ([`Param::declared`]); [`DriveParams::validate`] adds
+    /// the rules that involve several parameters.
+    pub fn validate_ranges(&self, j: usize) -> Result<(), ParamError> {
+        // The declared coordinate range keeps the layout's path lengths
+        // from overflowing.
+        declared(Param::PulleyX(j), self.x)?;
+        declared(Param::PulleyY(j), self.y)?;
+        declared(Param::PulleyRadius(j), self.radius)?;
+        declared(Param::PulleyInertia(j), self.inertia)?;
+        declared(Param::PulleyMuStatic(j), self.mu_static)?;
+        declared(Param::PulleyMuKinetic(j), self.mu_kinetic)?;
+        declared(Param::PulleyLoadDamping(j), self.load_damping)?;
+        declared(Param::PulleyTorqueRamp(j), self.torque_ramp)?;
+        declared(Param::PulleyOmegaRamp(j), self.omega_ramp)?;
+        declared(Param::PulleyRampTime(j), self.ramp_time)?;
+        declared(Param::PulleyGrooveAngle(j), self.groove_angle)?;
+        declared(Param::PulleyDecouplerStiffness(j), self.decoupler_stiffness)?;
+        declared(Param::PulleyDecouplerDamping(j), self.decoupler_damping)?;
+        declared(Param::PulleyRotorInertia(j), self.rotor_inertia)?;
+        declared(Param::PulleyArmPivotX(j), self.arm_pivot[0])?;
+        declared(Param::PulleyArmPivotY(j), self.arm_pivot[1])?;
+        declared(Param::PulleyArmInertia(j), self.arm_inertia)?;
+        declared(Param::PulleyArmStiffness(j), self.arm_stiffness)?;
+        declared(Param::PulleyArmDamping(j), self.arm_damping)?;
+        declared(Param::PulleyArmFriction(j), self.arm_friction)
+    }
 }
 
 impl DriveParams {
-    /// Checks every scalar range. Geometric checks (overlap, wrap, arc
-    /// resolution) are made by [`crate::belt::layout::Layout::new`].
+    /// Checks every parameter: its declared range ([`Param::declared`],
+    /// from the model description) and the rules that involve several
+    /// parameters. Geometric checks (overlap, wrap, arc resolution) are made
+    /// by [`crate::belt::layout::Layout::new`].
     pub fn validate(&self) -> Result<(), ParamError> {
-        let np = self.pulleys.len();
-        if !(2..=MAX_PULLEYS).contains(&np) {
-            return Err(param_error(
-                Param::PulleyCount,
-                format!("must be in 2..={MAX_PULLEYS} (got {np})"),
-            ));
-        }
+        declared_count(Param::PulleyCount, self.pulleys.len())?;
         let b = &self.belt;
-        if !(3..=MAX_BODIES).contains(&b.n_bodies) {
-            return Err(param_error(
-                Param::BeltBodies,
-                format!("must be in 3..={MAX_BODIES} (got {})", b.n_bodies),
-            ));
-        }
-        non_negative(Param::BeltPreload, b.preload)?;
-        positive(Param::BeltEa, b.ea)?;
+        declared_count(Param::BeltBodies, b.n_bodies)?;
+        declared(Param::BeltPreload, b.preload)?;
+        declared(Param::BeltEa, b.ea)?;
         check(
             b.preload < 0.5 * b.ea,
             Param::BeltPreload,
             msg!["below half of ", Param::BeltEa, " (strain < 50 %)"],
             b.preload,
         )?;
-        non_negative(Param::BeltAxialDamping, b.axial_damping)?;
-        non_negative(Param::BeltBendingStiffness, b.bending_stiffness)?;
-        non_negative(Param::BeltBendingDamping, b.bending_damping)?;
-        positive(Param::BeltMassPerLength, b.mass_per_length)?;
+        declared(Param::BeltAxialDamping, b.axial_damping)?;
+        declared(Param::BeltBendingStiffness, b.bending_stiffness)?;
+        declared(Param::BeltBendingDamping, b.bending_damping)?;
+        declared(Param::BeltMassPerLength, b.mass_per_length)?;
         let c = &self.contact;
-        non_negative(Param::ContactC1, c.c1)?;
-        non_negative(Param::ContactC2, c.c2)?;
+        declared(Param::ContactC1, c.c1)?;
+        declared(Param::ContactC2, c.c2)?;
         check(
             c.c1 > 0.0 || c.c2 > 0.0,
             Param::ContactC2,
@@ -475,18 +542,13 @@ impl DriveParams {
             ],
             c.c2,
         )?;
-        non_negative(Param::ContactDamping, c.damping)?;
-        non_negative(Param::ContactPMax, c.p_max)?;
+        declared(Param::ContactDamping, c.damping)?;
+        declared(Param::ContactPMax, c.p_max)?;
         let f = &self.friction;
-        positive(Param::FrictionDv, f.dv)?;
-        positive(Param::FrictionCreepMax, f.creep_max)?;
-        check(
-            (0.0..=1.0).contains(&f.creep_damping_time),
-            Param::FrictionCreepDampingTime,
-            "in 0..=1 s",
-            f.creep_damping_time,
-        )?;
-        non_negative(Param::FrictionZoneFactor, f.zone_factor)?;
+        declared(Param::FrictionDv, f.dv)?;
+        declared(Param::FrictionCreepMax, f.creep_max)?;
+        declared(Param::FrictionCreepDampingTime, f.creep_damping_time)?;
+        declared(Param::FrictionZoneFactor, f.zone_factor)?;
         if f.zone_bodies > 0 && f.zone_start >= b.n_bodies {
             return Err(param_error(
                 Param::FrictionZoneStart,
@@ -499,7 +561,7 @@ impl DriveParams {
                 format!("must be in 0..={} (got {})", b.n_bodies, f.zone_bodies),
             ));
         }
-        non_negative(Param::Gravity, self.gravity)?;
+        declared(Param::Gravity, self.gravity)?;
         if self.probe_body != PROBE_AUTO && self.probe_body >= b.n_bodies {
             return Err(param_error(
                 Param::ProbeBody,
@@ -511,28 +573,15 @@ impl DriveParams {
             ));
         }
         let s = &self.solver;
-        check(
-            s.rel_tol.is_finite() && s.rel_tol > 0.0 && s.rel_tol < 1.0,
-            Param::SolverRelTol,
-            "in (0, 1)",
-            s.rel_tol,
+        declared(Param::SolverRelTol, s.rel_tol)?;
+        declared(Param::SolverAbsTol, s.abs_tol)?;
+        declared(Param::SolverInitialStep, s.initial_step)?;
+        declared_count(
+            Param::SolverMaxSteps,
+            usize::try_from(s.max_steps).unwrap_or(usize::MAX),
         )?;
-        positive(Param::SolverAbsTol, s.abs_tol)?;
-        positive(Param::SolverInitialStep, s.initial_step)?;
-        if s.max_steps == 0 {
-            return Err(param_error(Param::SolverMaxSteps, "must be >= 1 (got 0)"));
-        }
         for (j, p) in self.pulleys.iter().enumerate() {
-            // Coordinates far beyond any drive make the layout's path
-            // lengths overflow; refuse them by name.
-            let near = |v: f64| v.is_finite() && v.abs() <= MAX_COORDINATE;
-            let within = format!("finite and within +-{MAX_COORDINATE} m");
-            check(near(p.x), Param::PulleyX(j), within.as_str(), p.x)?;
-            check(near(p.y), Param::PulleyY(j), within.as_str(), p.y)?;
-            positive(Param::PulleyRadius(j), p.radius)?;
-            positive(Param::PulleyInertia(j), p.inertia)?;
-            non_negative(Param::PulleyMuStatic(j), p.mu_static)?;
-            non_negative(Param::PulleyMuKinetic(j), p.mu_kinetic)?;
+            p.validate_ranges(j)?;
             check(
                 p.mu_kinetic <= p.mu_static,
                 Param::PulleyMuKinetic(j),
@@ -543,13 +592,11 @@ impl DriveParams {
                 ],
                 p.mu_kinetic,
             )?;
-            non_negative(Param::PulleyLoadDamping(j), p.load_damping)?;
-            finite(Param::PulleyTorqueRamp(j), p.torque_ramp)?;
-            finite(Param::PulleyOmegaRamp(j), p.omega_ramp)?;
-            positive(Param::PulleyRampTime(j), p.ramp_time)?;
+            // declared: [0, pi); a groove narrower than 10 deg (other than
+            // 0, flat) would multiply mu by more than 11
             let g = p.groove_angle;
             check(
-                g == 0.0 || (MIN_GROOVE_ANGLE..std::f64::consts::PI).contains(&g),
+                g == 0.0 || g >= MIN_GROOVE_ANGLE,
                 Param::PulleyGrooveAngle(j),
                 format!(
                     "0 (flat) or in [{MIN_GROOVE_ANGLE:.4}, pi) rad, i.e. 10..180 deg \
@@ -558,9 +605,14 @@ impl DriveParams {
                 g,
             )?;
             if p.decoupler {
-                positive(Param::PulleyDecouplerStiffness(j), p.decoupler_stiffness)?;
+                let on = Param::PulleyDecoupler(j);
+                positive_when(
+                    Param::PulleyDecouplerStiffness(j),
+                    on,
+                    p.decoupler_stiffness,
+                )?;
                 check(
-                    p.decoupler_damping.is_finite() && p.decoupler_damping > 0.0,
+                    p.decoupler_damping > 0.0,
                     Param::PulleyDecouplerDamping(j),
                     msg![
                         "finite and > 0 when ",
@@ -570,21 +622,9 @@ impl DriveParams {
                     ],
                     p.decoupler_damping,
                 )?;
-                positive(Param::PulleyRotorInertia(j), p.rotor_inertia)?;
+                positive_when(Param::PulleyRotorInertia(j), on, p.rotor_inertia)?;
             }
             if p.tensioner {
-                check(
-                    near(p.arm_pivot[0]),
-                    Param::PulleyArmPivotX(j),
-                    within.as_str(),
-                    p.arm_pivot[0],
-                )?;
-                check(
-                    near(p.arm_pivot[1]),
-                    Param::PulleyArmPivotY(j),
-                    within.as_str(),
-                    p.arm_pivot[1],
-                )?;
                 let arm = (p.x - p.arm_pivot[0]).hypot(p.y - p.arm_pivot[1]);
                 if arm < MIN_ARM_LENGTH {
                     return Err(param_error(
@@ -603,10 +643,9 @@ impl DriveParams {
                         ],
                     ));
                 }
-                positive(Param::PulleyArmInertia(j), p.arm_inertia)?;
-                positive(Param::PulleyArmStiffness(j), p.arm_stiffness)?;
-                non_negative(Param::PulleyArmDamping(j), p.arm_damping)?;
-                non_negative(Param::PulleyArmFriction(j), p.arm_friction)?;
+                let on = Param::PulleyTensioner(j);
+                positive_when(Param::PulleyArmInertia(j), on, p.arm_inertia)?;
+                positive_when(Param::PulleyArmStiffness(j), on, p.arm_stiffness)?;
             }
         }
         Ok(())

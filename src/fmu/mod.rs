@@ -112,28 +112,34 @@ fn int_slot<'a>(i: &'a mut IntegerParams, v: &VarInfo) -> Option<&'a mut i32> {
 }
 
 impl BeltDrive {
-    /// The physics parameters with the integer ones checked and applied
-    /// (public for tests that compare parameter sets with `DriveParams`).
+    /// The physics parameters: the integer ones decoded, all of them
+    /// checked by the core (`DriveParams::validate`); public for tests that
+    /// compare parameter sets with `DriveParams`.
     pub fn drive_params(&self) -> Result<DriveParams, String> {
         let i = &self.ints;
         let mut p = self.params.clone();
-        // Every min/max of the model description (the ranges importers are
-        // shown), in XML order; for all pulley slots, used or not.
+        // The Integer parameters are codes, 1-based indices and counts the
+        // adapter decodes (slots, enums, 0-based indices): their min/max
+        // are checked here, before decoding. The Real parameters go to the
+        // core as they are: `DriveParams::validate` checks their declared
+        // ranges (the same table, `Param::declared`), for FMU and library
+        // users alike.
         let mut ints = i.clone();
         for v in VARIABLES
             .iter()
-            .filter(|v| v.min.is_some() || v.max.is_some())
+            .filter(|v| v.ty == VarType::Integer && (v.min.is_some() || v.max.is_some()))
         {
-            let x = match v.ty {
-                VarType::Real => real_slot(&mut p, v).map(|x| *x),
-                VarType::Integer => int_slot(&mut ints, v).map(|&mut x| f64::from(x)),
-                _ => None,
-            };
-            if let Some(x) = x {
-                v.check_range(x)?;
+            if let Some(&mut x) = int_slot(&mut ints, v) {
+                v.check_range(f64::from(x))?;
             }
         }
-        p.pulleys.truncate(i.n_pulleys as usize);
+        // The unused pulley slots keep their declared ranges too (importers
+        // are shown them for every slot).
+        let used = i.n_pulleys as usize;
+        for (j, q) in p.pulleys.iter().enumerate().skip(used) {
+            q.validate_ranges(j).map_err(|e| names::render_error(&e))?;
+        }
+        p.pulleys.truncate(used);
         p.belt.n_bodies = i.n_bodies as usize;
         p.friction.law = names::friction_law(i.friction_law).ok_or_else(|| {
             range_error("friction.law", "1 (kubas2014) or 2 (creep)", i.friction_law)
@@ -159,6 +165,7 @@ impl BeltDrive {
             )
         })?;
         p.solver.max_steps = i.max_steps as u64;
+        p.validate().map_err(|e| names::render_error(&e))?;
         Ok(p)
     }
 

@@ -2,12 +2,11 @@
 the alternator (parameters/accessory-drive-decoupler.ssv) through FMPy: both
 integrators give the same drive after the run-up to idle, and the decoupler's
 rotor is driven by its clutch."""
-import importlib.util
 
 import numpy as np
 import pytest
 
-from conftest import FMU, ROOT
+from conftest import ROOT, runs_of_both_methods, window
 
 SSV = ROOT / "parameters/accessory-drive-decoupler.ssv"
 OUTPUTS = ["pulley[1].omega", "pulley[3].omega", "pulley[3].rotor.omega",
@@ -15,28 +14,9 @@ OUTPUTS = ["pulley[1].omega", "pulley[3].omega", "pulley[3].rotor.omega",
            "span[3].tension", "span[4].tension", "span[3].midDeflection"]
 
 
-def load_example():
-    spec = importlib.util.spec_from_file_location("simulate_ssv", ROOT / "examples/simulate_ssv.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
-
-
 @pytest.fixture(scope="module")
 def runs():
-    ex = load_example()
-    start = ex.start_values(SSV)
-    out = {}
-    for method in (1, 2):
-        from fmpy import simulate_fmu
-        sv = dict(start, **{"solver.method": method})
-        out[method] = simulate_fmu(str(FMU), stop_time=0.8, output_interval=1e-3,
-                                   start_values=sv, output=OUTPUTS)
-    return start, out
-
-
-def window(res, name, t0=0.6):
-    return res[name][res["time"] >= t0]
+    return runs_of_both_methods(SSV, OUTPUTS)
 
 
 def test_integrators_agree_on_the_decoupler_set(runs):

@@ -9,29 +9,21 @@ FMPy, on the 4-pulley accessory drive and on a 2-pulley drive unlike it
   where the stiff method's instantaneous belt torques at the communication
   points are biased (it leaves the fast contact motion unresolved);
 * the input energy grows by the drive torque's work over each step."""
-import importlib.util
 
 import numpy as np
 import pytest
 from fmpy import simulate_fmu
 
-from conftest import FMU, ROOT
+from conftest import FMU, ROOT, ssv_example
 
 MEANS = ["meanBeltTorque", "meanDriveTorque", "meanHubForce.x", "meanHubForce.y", "meanAlpha"]
 H = 1e-3  # communication step [s]
 
 
-def load_example():
-    spec = importlib.util.spec_from_file_location("simulate_ssv", ROOT / "examples/simulate_ssv.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
-
-
 def accessory_drive():
     """parameters/accessory-drive-4.ssv with its run-up to idle shortened
     from 0.5 s to 0.1 s (to keep RKF45's run short)."""
-    sv = load_example().start_values(ROOT / "parameters/accessory-drive-4.ssv")
+    sv = ssv_example().start_values(ROOT / "parameters/accessory-drive-4.ssv")
     for j in range(1, 5):
         sv[f"pulley[{j}].rampTime"] = 0.1
     return sv, 4

@@ -4,7 +4,6 @@ units' SI exponents those of the model description, and each set applied
 with examples/simulate_ssv.py (the README's recipe) simulates a few
 milliseconds. (tests/parameter_sets.rs checks the values of the paper's two
 drives against src/belt/params.rs.)"""
-import importlib.util
 import math
 import xml.etree.ElementTree as ET
 
@@ -12,19 +11,12 @@ import numpy as np
 import pytest
 from fmpy.ssp.ssd import read_ssv
 
-from conftest import FMU, ROOT
+from conftest import FMU, ROOT, ssv_example
 
 SETS = sorted((ROOT / "parameters").glob("*.ssv"))
 NS = {"ssv": "http://ssp-standard.org/SSP1/SystemStructureParameterValues",
       "ssc": "http://ssp-standard.org/SSP1/SystemStructureCommon"}
 BASE = ["kg", "m", "s", "A", "K", "mol", "cd", "rad"]
-
-
-def load_example():
-    spec = importlib.util.spec_from_file_location("simulate_ssv", ROOT / "examples/simulate_ssv.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
 
 
 def unit_of(v):
@@ -82,7 +74,7 @@ def test_section4_file_holds_the_fmu_defaults(md):
 
 @pytest.mark.parametrize("path", SETS, ids=lambda p: p.stem)
 def test_applied_through_fmpy(path):
-    ex = load_example()
+    ex = ssv_example()
     start = ex.start_values(path)
     n = start["nPulleys"]
     outputs = [f"pulley[{j}].omega" for j in range(1, n + 1)] + \

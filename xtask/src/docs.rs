@@ -22,7 +22,7 @@ fn escape_html(s: &str) -> String {
 
 /// One `<ScalarVariable>` of the model description, as the documentation
 /// shows it.
-#[derive(Default)]
+#[derive(Clone, Default)]
 struct Variable {
     name: String,
     causality: String,
@@ -35,6 +35,9 @@ struct Variable {
     /// The variable's declared `min` and `max` (empty: none declared).
     min: String,
     max: String,
+    /// The model description's range annotation excludes `min` / `max`.
+    min_exclusive: bool,
+    max_exclusive: bool,
 }
 
 /// What the documentation needs from the model description.
@@ -68,6 +71,8 @@ fn parse_model_description(xml: &str) -> Result<ModelInfo> {
             unit: md.unit_of(v).unwrap_or_default().to_owned(),
             min: v.min.clone().unwrap_or_default(),
             max: v.max.clone().unwrap_or_default(),
+            min_exclusive: v.min_exclusive,
+            max_exclusive: v.max_exclusive,
         })
         .collect();
     Ok(ModelInfo {
@@ -113,13 +118,17 @@ fn variable_table(info: &ModelInfo, keep: impl Fn(&Variable) -> bool, with_start
 }
 
 /// The declared range as the tables show it: `min … max`, `≥ min`, `≤ max`,
-/// or a dash when the model description declares none.
+/// with `>` / `<` for an end the range annotation excludes (`> 0`,
+/// `> 0, < 1`), or a dash when the model description declares none.
 fn range(v: &Variable) -> String {
+    let lower = if v.min_exclusive { ">" } else { "≥" };
+    let upper = if v.max_exclusive { "<" } else { "≤" };
     match (v.min.as_str(), v.max.as_str()) {
         ("", "") => "–".into(),
-        (min, "") => format!("≥ {min}"),
-        ("", max) => format!("≤ {max}"),
-        (min, max) => format!("{min} … {max}"),
+        (min, "") => format!("{lower} {min}"),
+        ("", max) => format!("{upper} {max}"),
+        (min, max) if !(v.min_exclusive || v.max_exclusive) => format!("{min} … {max}"),
+        (min, max) => format!("{lower} {min}, {upper} {max}"),
     }
 }
 
@@ -464,6 +473,30 @@ mod tests {
                 ("y", "Real", "", "m", "–".to_string())
             ]
         );
+    }
+
+    #[test]
+    fn exclusive_ends_are_shown() {
+        let xml = XML.replacen(
+            "start=\"1\" min=\"0\"/>",
+            "start=\"1\" min=\"0\"/><Annotations><Tool name=\"BeltDrive\"><Range min=\"exclusive\"/></Tool></Annotations>",
+            1,
+        );
+        let info = parse_model_description(&xml).unwrap();
+        let m = &info.variables[2];
+        assert_eq!((m.name.as_str(), range(m).as_str()), ("m", "> 0"));
+        let mut v = info.variables[2].clone();
+        for (min, max, lo, hi, shown) in [
+            ("0", "", true, false, "> 0"),
+            ("0", "1", true, true, "> 0, < 1"),
+            ("0", "3.14", false, true, "≥ 0, < 3.14"),
+            ("0", "1", false, false, "0 … 1"),
+            ("", "5", false, true, "< 5"),
+        ] {
+            (v.min, v.max) = (min.into(), max.into());
+            (v.min_exclusive, v.max_exclusive) = (lo, hi);
+            assert_eq!(range(&v), shown);
+        }
     }
 
     #[test]

@@ -49,6 +49,26 @@ pub fn auto_p_max(p_max: f64, p0: f64) -> f64 {
     }
 }
 
+/// The friction lever of a pulley of `radius` on a chain of straight bodies
+/// of length `body_length` whose centres rest at the penetration
+/// `penetration` (docs/model.md, "Chordal effect"): r atan(h) / h with
+/// h = l / (2 (r - p0)). On the wrap the centres lie on the circle
+/// rho = r - p0 and each body spans the angle 2 atan(h), so bodies whose
+/// centres move at v pass at the rate v / (2 rho atan h) and carry the belt
+/// on at v h / atan(h) (each takes the length l on a span). With the
+/// surface speed omega times this lever a chain in stick runs its spans at
+/// omega r on any mesh, like a continuous belt, and the lever tends to r as
+/// l -> 0. The pulley's friction moment uses the same lever, so the
+/// friction power stays f v_T (eq. 14, 24).
+pub fn chordal_lever(radius: f64, penetration: f64, body_length: f64) -> f64 {
+    let h = body_length / (2.0 * (radius - penetration));
+    if h > 0.0 && h.is_finite() {
+        radius * h.atan() / h
+    } else {
+        radius
+    }
+}
+
 /// Derivative of [`smoothstep`].
 #[inline(always)]
 pub fn smoothstep_slope(x: f64) -> f64 {
@@ -371,6 +391,33 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// A closed chain of straight bodies laid on the circle rho = r - p0,
+    /// each tangent at its centre and the next one's end on its own end
+    /// (zero gaps): its pitch angle is 2 atan(h), checked from the body
+    /// ends; with the centres carried at omega times the lever, one body
+    /// (length l of span) passes per pitch time, so the span runs at omega r
+    /// to rounding; and the lever tends to r as l -> 0 (the second-order
+    /// term r h^2 / 3).
+    #[test]
+    fn chordal_lever_runs_the_chain_at_the_radius() {
+        let (r, p0, omega) = (0.027, 1.5e-4, 25.0);
+        let rho = r - p0;
+        for l in [0.02, 0.008, 0.002] {
+            let lever = chordal_lever(r, p0, l);
+            let h = l / (2.0 * rho);
+            let pitch = 2.0 * h.atan();
+            // end of body 0 (centre at angle 0) and start of body 1
+            let end0 = [rho, 0.5 * l];
+            let (s, c) = pitch.sin_cos();
+            let start1 = [rho * c + 0.5 * l * s, rho * s - 0.5 * l * c];
+            assert!((end0[0] - start1[0]).abs() < 1e-15 && (end0[1] - start1[1]).abs() < 1e-15);
+            let v_span = l / (rho * pitch / (omega * lever));
+            assert!((v_span / (omega * r) - 1.0).abs() < 1e-14, "{l}: {v_span}");
+            assert!((lever / r - (1.0 - h * h / 3.0)).abs() < h.powi(4) / 5.0 + 1e-15);
+        }
+        assert_eq!(chordal_lever(r, p0, 0.0), r);
     }
 
     #[test]

@@ -18,9 +18,10 @@ pub struct PulleyConst {
     pub radius: f64,
     /// r_p^2 [m^2].
     pub radius2: f64,
-    /// Lever of the friction on the pulley [m] (the radius r_p): its
-    /// surface speed is omega times it and a friction force f turns it by
-    /// lever times f (eq. 14, 24).
+    /// Lever of the friction on the pulley [m] (r_p atan(h)/h for the
+    /// chordal effect, `elements::contact::chordal_lever`): its surface
+    /// speed is omega times it and a friction force f turns it by lever
+    /// times f (eq. 14, 24).
     pub lever: f64,
     /// 1 / J [1/(kg m^2)].
     pub inv_inertia: f64,
