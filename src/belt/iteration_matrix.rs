@@ -287,8 +287,12 @@ impl<const NB: usize> Factors<NB> {
         for (j, s) in k.arm_slots().iter().enumerate() {
             if let Some(s) = *s {
                 if touching & (1 << j) != 0 {
-                    f.fixed_view_mut::<1, 3>(s, 0)
-                        .copy_from(&Self::arm_row(b, &k.arm_bodies[i], k.c, j));
+                    f.fixed_view_mut::<1, 3>(s, 0).copy_from(&Self::arm_row(
+                        b,
+                        &k.arm_bodies[i],
+                        k.c,
+                        j,
+                    ));
                 }
             }
         }
@@ -321,8 +325,12 @@ impl<const NB: usize> Factors<NB> {
         for (j, s) in k.arm_slots().iter().enumerate() {
             if let Some(s) = *s {
                 if touching & (1 << j) != 0 {
-                    e.fixed_view_mut::<3, 1>(0, s)
-                        .copy_from(&Self::arm_column(b, &k.arm_bodies[i], k.c, j));
+                    e.fixed_view_mut::<3, 1>(0, s).copy_from(&Self::arm_column(
+                        b,
+                        &k.arm_bodies[i],
+                        k.c,
+                        j,
+                    ));
                 }
             }
         }
@@ -381,10 +389,18 @@ impl<const NB: usize> Factors<NB> {
         for (j, sj) in view.arm_slots().iter().enumerate() {
             let Some(kj) = *sj else { continue };
             if touching_last & (1 << j) != 0 {
-                g.fixed_view_mut::<3, 1>(0, kj)
-                    .copy_from(&Self::arm_column(&bodies[last], &arm_bodies[last], c, j));
-                g.fixed_view_mut::<1, 3>(kj, 0)
-                    .copy_from(&Self::arm_row(&bodies[last], &arm_bodies[last], c, j));
+                g.fixed_view_mut::<3, 1>(0, kj).copy_from(&Self::arm_column(
+                    &bodies[last],
+                    &arm_bodies[last],
+                    c,
+                    j,
+                ));
+                g.fixed_view_mut::<1, 3>(kj, 0).copy_from(&Self::arm_row(
+                    &bodies[last],
+                    &arm_bodies[last],
+                    c,
+                    j,
+                ));
             }
             let touching = |b: &BodyJacobian| b.touching & (1 << j) != 0;
             for (k, sk) in view.slots().iter().enumerate() {
@@ -686,7 +702,17 @@ impl<const NB: usize> Factors<NB> {
                 r -= u_s[i] * next;
             }
             next = dinv_s[i] * r;
-            Self::recover(&bodies[i], arm_bodies.get(i), c, dw, dr, b, i, next, bz_s[i]);
+            Self::recover(
+                &bodies[i],
+                arm_bodies.get(i),
+                c,
+                dw,
+                dr,
+                b,
+                i,
+                next,
+                bz_s[i],
+            );
         }
         // 3. impulses and the input energy: nothing depends on them, their
         //    rows give x_q = b_q + c (dG/dy) x
