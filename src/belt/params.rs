@@ -651,3 +651,46 @@ impl DriveParams {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A Rust program that builds a drive directly is refused the declared
+    /// ranges with the same rule as an FMU user, in engineering names.
+    #[test]
+    fn library_users_get_the_declared_ranges() {
+        let refusal = |f: &dyn Fn(&mut DriveParams)| {
+            let mut p = DriveParams::default();
+            f(&mut p);
+            p.validate().unwrap_err().to_string()
+        };
+        assert_eq!(
+            refusal(&|p| p.pulleys[0].radius = 0.0),
+            "pulley 1 radius must be finite and > 0 m (got 0)"
+        );
+        assert_eq!(
+            refusal(&|p| p.solver.rel_tol = 1.0),
+            "relative tolerance must be finite and in (0, 1) (got 1)"
+        );
+        assert_eq!(
+            refusal(&|p| p.pulleys[1].arm_pivot[0] = 1e300),
+            "pulley 2 tensioner pivot x must be finite and in [-1000, 1000] m (got 1e300)"
+        );
+        assert_eq!(
+            refusal(&|p| p.belt.n_bodies = MAX_BODIES + 1),
+            "number of belt bodies must be in 3..=2000 (got 2001)"
+        );
+        // 0 is the declared (inclusive) minimum of the decoupler spring: valid
+        // without a decoupler, refused with one (a rule of two parameters)
+        let mut p = DriveParams::default();
+        p.pulleys[1].decoupler_stiffness = 0.0;
+        p.validate().unwrap();
+        p.pulleys[1].decoupler = true;
+        assert_eq!(
+            p.validate().unwrap_err().to_string(),
+            "pulley 2 decoupler stiffness must be > 0 when pulley 2 decoupler is set (got 0)"
+        );
+        assert_eq!((MAX_PULLEYS, MAX_BODIES), (6, 2000));
+    }
+}
