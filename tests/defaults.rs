@@ -297,14 +297,15 @@ fn integrators_agree_on_unequal_pulleys() {
 ///
 /// The section-3 parameter set itself (contact.pMax = 1e-5 m, which leaves
 /// a third of the damping on the slack side of the driven wrap) is compared
-/// with RKF45 at relTol 1e-7: there RKF45 at its default 1e-4 is itself
-/// 0.26 % off its converged slack-span tension (91.09 against 90.85 N, means
-/// over 1-2 s), and the stiff method at 1e-4 0.31 % (90.57 N).
+/// with RKF45 at its default relTol 1e-4 and at 1e-7: the slack-span tension
+/// (means over 1-2 s) is 90.83 N with RKF45 at 1e-4, 90.76 N at 1e-7 and
+/// 90.65 N with the stiff method at 1e-4 (0.21 % and 0.12 % off).
 #[test]
 fn integrators_agree_on_the_section3_load_step() {
     let load = Some((0.3, 1, 10.0));
     let set = DriveParams::kubas_section3();
     agree_with_reference("section-3 set, pMax 1e-5", &set, 1e-7, load, 1.0, 2.0, 1);
+    integrators_agree("section-3 set at the defaults", &set, load, 1.0, 2.0, 1);
     let mut p = set.clone();
     p.contact.p_max = 0.0;
     integrators_agree("section-3 drive", &p, load, 1.0, 2.0, 1);
@@ -344,4 +345,68 @@ fn integrators_agree_on_the_accessory_drive() {
         q.ramp_time = 0.2;
     }
     integrators_agree("accessory drive", &p, None, 0.4, 0.6, 2);
+}
+
+/// The accessory drive's decoupler and tensioner sets
+/// (parameters/accessory-drive-decoupler.ssv, accessory-drive-tensioner.ssv)
+/// as the plain accessory drive above: the crank ramp shortened to 0.2 s,
+/// means over 0.4-0.6 s, the alternator's slip (pulley 2, behind its
+/// one-way clutch: the slip is the belt's over its pulley, not the
+/// rotor's).
+#[test]
+fn integrators_agree_on_the_decoupler_and_tensioner_sets() {
+    for file in [
+        "accessory-drive-decoupler.ssv",
+        "accessory-drive-tensioner.ssv",
+    ] {
+        let mut p = parameter_set(file);
+        p.solver.max_steps = DriveParams::default().solver.max_steps;
+        for q in &mut p.pulleys {
+            q.ramp_time = 0.2;
+        }
+        integrators_agree(file, &p, None, 0.4, 0.6, 2);
+    }
+}
+
+/// The paper's section-4 set as it ships (parameters/kubas2014-section4.ssv:
+/// the paper's 1 mm contact ramp, the 5PK drive of the default otherwise),
+/// means over 0.35-0.6 s as on the default drive.
+#[test]
+fn integrators_agree_on_the_section4_set() {
+    let mut p = parameter_set("kubas2014-section4.ssv");
+    // the set's step guard is the FMU's per-communication-step bound
+    p.solver.max_steps = DriveParams::default().solver.max_steps;
+    integrators_agree("section-4 set", &p, None, 0.35, 0.6, 1);
+}
+
+/// A 60-body drive (two 50 mm pulleys 0.25 m apart, 300 N preload, every
+/// other parameter at its default, the probe chosen automatically): pulley
+/// 1 driven by -2 N m ramped over 0.05 s, pulley 2 loaded by 0.05 N m s/rad;
+/// means over 0.3-0.5 s.
+///
+/// Known disagreement (issue 16): the speeds follow the power balance
+/// 2 N m omega_1 = 0.05 omega_2^2 + the belt's loss, and the loss is 0.6 %
+/// of the power (RKF45: 0.0120 N m of the 2 N m). The stiff method at
+/// relTol 1e-4 gains energy in the belt's fast motion instead (loss -0.0018
+/// N m), so its speeds are 0.69 % high while its span tensions agree within
+/// 0.24 %. The cause is the body velocities' error weight 1e-2: with weight
+/// 0.1 the loss is 0.0114 N m (2.6 times the steps), with full weight
+/// RKF45's 0.0119 (6.9 times); absTol 1e-8 does not remove it (0.0031 N m;
+/// docs/model.md, "Integrators"). The test fails on the speed until that is
+/// fixed; it then must lose this attribute.
+#[test]
+#[should_panic(expected = "60-body drive, relTol 1e-4: pulley 1 speed")]
+fn integrators_agree_on_a_sixty_body_drive() {
+    let mut p = DriveParams::default();
+    p.belt.n_bodies = 60;
+    p.belt.preload = 300.0;
+    p.probe_body = 0;
+    p.pulleys[0].radius = 0.05;
+    p.pulleys[1].radius = 0.05;
+    p.pulleys[1].x = 0.25;
+    p.pulleys[0].torque_ramp = -2.0;
+    p.pulleys[0].ramp_time = 0.05;
+    p.pulleys[1].load_damping = 0.05;
+    p.pulleys[1].ramp_time = 0.05;
+    integrators_agree("60-body drive", &p, None, 0.3, 0.5, 1);
 }

@@ -457,20 +457,76 @@ mod tests {
             ("<Real declaredType=\"L\" start=\"0\"/>", "<Real declaredType=\"X\" start=\"0\"/>", "declaredType \"X\" is not in <TypeDefinitions>"),
             ("<Real declaredType=\"L\" start=\"0\"/>", "<Real declaredType=\"L\" unit=\"ft\" start=\"0\"/>", "unit \"ft\" is not in <UnitDefinitions>"),
             ("description=\"d\" causality=\"input\"", "description=\" \" causality=\"input\"", "has no description"),
-            // exclusive ends (the BeltDrive range annotation)
-            ("<Real declaredType=\"L\" start=\"0\"/>", "<Real declaredType=\"L\" start=\"0\" min=\"0\"/><Annotations><Tool name=\"BeltDrive\"><Range min=\"exclusive\"/></Tool></Annotations>", "start = 0 is outside (0, inf]"),
-            ("<Real declaredType=\"L\" start=\"0\"/>", "<Real declaredType=\"L\" start=\"1\" min=\"0\" max=\"1\"/><Annotations><Tool name=\"BeltDrive\"><Range max=\"exclusive\"/></Tool></Annotations>", "start = 1 is outside [0, 1)"),
-            ("<Real declaredType=\"L\" start=\"0\"/>", "<Real declaredType=\"L\" start=\"0\"/><Annotations><Tool name=\"BeltDrive\"><Range max=\"exclusive\"/></Tool></Annotations>", "makes max exclusive, but no max is declared"),
-            ("<Real declaredType=\"L\" start=\"0\"/>", "<Real declaredType=\"L\" start=\"1\" min=\"1\" max=\"1\"/><Annotations><Tool name=\"BeltDrive\"><Range min=\"exclusive\"/></Tool></Annotations>", "leaves no value"),
-            ("<Real declaredType=\"L\" start=\"0\"/>", "<Real declaredType=\"L\" start=\"0.5\" min=\"0\" max=\"1\"/><Annotations><Tool name=\"BeltDrive\"><Range min=\"exclusive\" max=\"exclusive\"/></Tool></Annotations>", ""),
-            // another tool's annotation is not ours
-            ("<Real declaredType=\"L\" start=\"0\"/>", "<Real declaredType=\"L\" start=\"0\" min=\"0\"/><Annotations><Tool name=\"Other\"><Range min=\"exclusive\"/></Tool></Annotations>", ""),
         ];
         for (from, to, needle) in cases {
             let md = parse(&OK.replacen(from, to, 1)).unwrap();
             match check(&md) {
                 Ok(()) => assert!(needle.is_empty(), "{to}: accepted, expected {needle:?}"),
                 Err(e) => assert!(!needle.is_empty() && e.contains(needle), "{to}: {e}"),
+            }
+        }
+    }
+
+    /// Exclusive ends (the `BeltDrive` range annotation) need their bound
+    /// and a start value strictly inside.
+    #[test]
+    fn exclusive_end_rules() {
+        let with = |real: &str, range: &str| {
+            let xml = OK
+                .replacen("<Real declaredType=\"L\" start=\"0\"/>", real, 1)
+                .replacen(
+                    "  <ModelVariables>",
+                    &format!(
+                        "  <VendorAnnotations><Tool name=\"BeltDrive\"><ExclusiveBounds>\
+                         <Range variable=\"u\" {range}/></ExclusiveBounds></Tool>\
+                         </VendorAnnotations>\n  <ModelVariables>"
+                    ),
+                    1,
+                );
+            check(&parse(&xml).unwrap())
+        };
+        let cases = [
+            (
+                "<Real declaredType=\"L\" start=\"0\" min=\"0\"/>",
+                "min=\"exclusive\"",
+                "start = 0 is outside (0, inf]",
+            ),
+            (
+                "<Real declaredType=\"L\" start=\"1\" min=\"0\" max=\"1\"/>",
+                "max=\"exclusive\"",
+                "start = 1 is outside [0, 1)",
+            ),
+            (
+                "<Real declaredType=\"L\" start=\"0\"/>",
+                "max=\"exclusive\"",
+                "makes max exclusive, but no max is declared",
+            ),
+            (
+                "<Real declaredType=\"L\" start=\"1\" min=\"1\" max=\"1\"/>",
+                "min=\"exclusive\"",
+                "leaves no value",
+            ),
+            (
+                "<Real declaredType=\"L\" start=\"0.5\" min=\"0\" max=\"1\"/>",
+                "min=\"exclusive\" max=\"exclusive\"",
+                "",
+            ),
+            (
+                "<Real declaredType=\"L\" start=\"0\" min=\"0\"/>",
+                "min=\"inclusive\"",
+                "",
+            ),
+        ];
+        for (real, range, needle) in cases {
+            match with(real, range) {
+                Ok(()) => assert!(
+                    needle.is_empty(),
+                    "{real} {range}: accepted, expected {needle:?}"
+                ),
+                Err(e) => assert!(
+                    !needle.is_empty() && e.contains(needle),
+                    "{real} {range}: {e}"
+                ),
             }
         }
     }

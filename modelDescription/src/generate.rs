@@ -426,15 +426,16 @@ mod tests {
     const TWO_SLOTS: &str = r#"<fmiModelDescription fmiVersion="2.0" modelName="M" guid="@GUID@">
   <UnitDefinitions><Unit name="m"/></UnitDefinitions>
   <TypeDefinitions><SimpleType name="L"><Real unit="m"/></SimpleType></TypeDefinitions>
+  <VendorAnnotations><Tool name="BeltDrive"><ExclusiveBounds>
+    <Range variable="p[1].r" min="exclusive"/><Range variable="p[2].r" min="exclusive"/>
+  </ExclusiveBounds></Tool></VendorAnnotations>
   <ModelVariables>
     <ScalarVariable name="n" valueReference="1" causality="parameter" variability="fixed">
       <Integer start="2" min="2" max="6"/></ScalarVariable>
     <ScalarVariable name="p[1].r" valueReference="2" causality="parameter" variability="fixed">
-      <Real declaredType="L" start="1" min="0"/>
-      <Annotations><Tool name="BeltDrive"><Range min="exclusive"/></Tool></Annotations></ScalarVariable>
+      <Real declaredType="L" start="1" min="0"/></ScalarVariable>
     <ScalarVariable name="p[2].r" valueReference="3" causality="parameter" variability="fixed">
-      <Real declaredType="L" start="2" min="0"/>
-      <Annotations><Tool name="BeltDrive"><Range min="exclusive"/></Tool></Annotations></ScalarVariable>
+      <Real declaredType="L" start="2" min="0"/></ScalarVariable>
   </ModelVariables>
 </fmiModelDescription>"#;
 

@@ -116,16 +116,23 @@ pub struct Variable {
     pub max_exclusive: bool,
 }
 
-/// The `name` of the `<Tool>` annotation of a ScalarVariable that says which
-/// ends of its range are exclusive, e.g. `pulley[1].radius` must be > 0:
+/// The `name` of the `<Tool>` in `<VendorAnnotations>` that says which ends
+/// of declared ranges are exclusive, e.g. `pulley[1].radius` must be > 0:
 ///
 /// ```xml
-/// <Real declaredType="Length" start="0.027" min="0"/>
-/// <Annotations><Tool name="BeltDrive"><Range min="exclusive"/></Tool></Annotations>
+/// <VendorAnnotations>
+///   <Tool name="BeltDrive">
+///     <ExclusiveBounds>
+///       <Range variable="pulley[1].radius" min="exclusive"/>
+///     </ExclusiveBounds>
+///   </Tool>
+/// </VendorAnnotations>
 /// ```
 ///
 /// FMI 2.0 has no exclusive bounds; importers read `min`/`max` (inclusive)
 /// and ignore the annotation, the model refuses a value on the excluded end.
+/// (A ScalarVariable's own `<Annotations>` would be the natural place, but
+/// rust-fmi's reader refuses them.)
 pub const RANGE_TOOL: &str = "BeltDrive";
 
 /// An `<Unknown>` of the model structure.
@@ -256,8 +263,10 @@ pub fn parse(xml: &str) -> Result<ModelDescription, String> {
     let mut md = ModelDescription::default();
     let mut stack: Vec<String> = Vec::new();
     let mut current: Option<Variable> = None;
-    // `name` of the `<Tool>` annotation being read inside a ScalarVariable
+    // `name` of the `<Tool>` of `<VendorAnnotations>` being read
     let mut tool: Option<String> = None;
+    // (line, variable, min exclusive, max exclusive) of the range annotation
+    let mut exclusive: Vec<(usize, String, bool, bool)> = Vec::new();
     let mut root_seen = false;
     let mut lines = Lines {
         xml,
@@ -397,11 +406,8 @@ pub fn parse(xml: &str) -> Result<ModelDescription, String> {
                 v.min = a.get("min");
                 v.max = a.get("max");
             }
-            (Some("Annotations"), "Tool") if current.is_some() => tool = a.get("name"),
-            (Some("Tool"), "Range") if current.is_some() && tool.as_deref() == Some(RANGE_TOOL) => {
-                let v = current
-                    .as_mut()
-                    .ok_or("internal: Range outside ScalarVariable")?;
+            (Some("VendorAnnotations"), "Tool") => tool = a.get("name"),
+            (Some("ExclusiveBounds"), "Range") if tool.as_deref() == Some(RANGE_TOOL) => {
                 let end = |key: &str| -> Result<bool, String> {
                     match a.get(key).as_deref() {
                         None | Some("inclusive") => Ok(false),
@@ -411,8 +417,7 @@ pub fn parse(xml: &str) -> Result<ModelDescription, String> {
                         )),
                     }
                 };
-                v.min_exclusive = end("min")?;
-                v.max_exclusive = end("max")?;
+                exclusive.push((line, a.required("variable")?, end("min")?, end("max")?));
             }
             (Some(list @ ("Outputs" | "InitialUnknowns" | "Derivatives")), "Unknown") => {
                 let numbers = |key: &str| -> Result<Option<Vec<usize>>, String> {
@@ -454,6 +459,19 @@ pub fn parse(xml: &str) -> Result<ModelDescription, String> {
     }
     if !root_seen {
         return Err("no <fmiModelDescription> element".into());
+    }
+    for (line, name, lo, hi) in exclusive {
+        let v = md
+            .variables
+            .iter_mut()
+            .find(|v| v.name == name)
+            .ok_or_else(|| format!("line {line}: <Range variable=\"{name}\">: no such variable"))?;
+        if v.min_exclusive || v.max_exclusive {
+            return Err(format!(
+                "line {line}: <Range variable=\"{name}\"> is given twice"
+            ));
+        }
+        (v.min_exclusive, v.max_exclusive) = (lo, hi);
     }
     Ok(md)
 }
@@ -542,22 +560,39 @@ mod tests {
         let e = parse(&SMALL.replace("</ModelVariables>", "")).unwrap_err();
         assert!(e.contains("malformed XML"), "{e}");
         assert!(parse("").unwrap_err().contains("no <fmiModelDescription>"));
-        let e = parse(&SMALL.replace(
-            "<Real declaredType=\"Length\"/>",
-            "<Real declaredType=\"Length\"/><Annotations><Tool name=\"BeltDrive\"><Range min=\"open\"/></Tool></Annotations>",
-        ))
-        .unwrap_err();
-        assert!(e.contains("line 17: <Range min=\"open\">"), "{e}");
+        let annotate = |ranges: &str| {
+            SMALL.replace(
+                "  <ModelVariables>",
+                &format!(
+                    "  <VendorAnnotations><Tool name=\"BeltDrive\"><ExclusiveBounds>\n{ranges}\n\
+                     </ExclusiveBounds></Tool></VendorAnnotations>\n  <ModelVariables>"
+                ),
+            )
+        };
+        let e = parse(&annotate("<Range variable=\"n\" min=\"open\"/>")).unwrap_err();
+        assert!(e.contains("line 13: <Range min=\"open\">"), "{e}");
+        let e = parse(&annotate("<Range variable=\"m\" min=\"exclusive\"/>")).unwrap_err();
+        assert!(
+            e.contains("line 13: <Range variable=\"m\">: no such variable"),
+            "{e}"
+        );
+        let twice =
+            "<Range variable=\"n\" min=\"exclusive\"/><Range variable=\"n\" max=\"exclusive\"/>";
+        let e = parse(&annotate(twice)).unwrap_err();
+        assert!(e.contains("is given twice"), "{e}");
+        let e = parse(&annotate("<Range min=\"exclusive\"/>")).unwrap_err();
+        assert!(e.contains("lacks the required attribute variable"), "{e}");
     }
 
     #[test]
     fn reads_exclusive_ends() {
         let annotated = |tool: &str| {
             SMALL.replace(
-                "<Integer start=\"2\" min=\"1\" max=\"6\"/>",
+                "  <ModelVariables>",
                 &format!(
-                    "<Integer start=\"2\" min=\"1\" max=\"6\"/><Annotations><Tool name=\"{tool}\">\
-                     <Range min=\"exclusive\" max=\"inclusive\"/></Tool></Annotations>"
+                    "  <VendorAnnotations><Tool name=\"{tool}\"><ExclusiveBounds>\
+                     <Range variable=\"n\" min=\"exclusive\" max=\"inclusive\"/>\
+                     </ExclusiveBounds></Tool></VendorAnnotations>\n  <ModelVariables>"
                 ),
             )
         };
@@ -565,6 +600,7 @@ mod tests {
         let n = &md.variables[0];
         assert!(n.min_exclusive && !n.max_exclusive);
         assert!(!md.variables[1].min_exclusive);
+        // another tool's annotation is not ours
         let md = parse(&annotated("SomeTool")).unwrap();
         assert!(!md.variables[0].min_exclusive);
         assert!(!parse(SMALL).unwrap().variables[0].min_exclusive);

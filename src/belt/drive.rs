@@ -256,18 +256,21 @@ pub struct Outputs {
     pub max_tension: f64,
     /// Forces on and position of the probe body.
     pub probe: ProbeOutputs,
-    /// Power dissipated at this instant [W].
+    /// Power dissipated at this instant, the rate of `energy_dissipated`
+    /// [W]: loads, dampers, friction slip and the creep springs' exchange
+    /// with the normal force (not signed; elements::friction).
     pub power_dissipated: f64,
     /// Power dissipated in the belt alone (>= 0): SDE dampers, contact
-    /// damping and friction slip, without the creep springs' stored power.
+    /// damping and friction slip, without the creep springs' exchange.
     pub belt_power_loss: f64,
-    /// Energy dissipated since the start [J].
+    /// Energy dissipated since the start, less what the creep springs
+    /// store [J].
     pub energy_dissipated: f64,
     /// Work done by the drives and input torques since the start [J].
     pub energy_input: f64,
     /// Kinetic energy of bodies, pulleys, rotors and arms [J].
     pub kinetic_energy: f64,
-    /// Elastic and gravitational energy [J].
+    /// Elastic (SDEs, contacts, creep springs) and gravitational energy [J].
     pub potential_energy: f64,
 }
 
@@ -279,6 +282,8 @@ struct OutputRecorder<'a> {
     span_mid: [[f64; 2]; MAX_PULLEYS],
     n_spans: usize,
     span_best: [f64; MAX_PULLEYS],
+    /// Power stored in the creep springs (not dissipated).
+    spring_power: f64,
 }
 
 impl Recorder for OutputRecorder<'_> {
@@ -323,6 +328,9 @@ impl Recorder for OutputRecorder<'_> {
     }
     fn belt_loss(&mut self, p: f64) {
         self.out.belt_power_loss += p;
+    }
+    fn creep_spring_power(&mut self, p: f64) {
+        self.spring_power += p;
     }
 }
 
@@ -718,9 +726,12 @@ impl Drive {
                 span_mid,
                 n_spans: np,
                 span_best: [f64::INFINITY; MAX_PULLEYS],
+                spring_power: 0.0,
             };
             self.sys
                 .rhs(&mut self.ws, self.t, &self.y, &mut self.dy, &mut rec);
+            // the friction power stored in the creep springs is not lost
+            rec.out.power_dissipated -= rec.spring_power;
         }
         out.min_tension = self.tensions.iter().copied().fold(f64::INFINITY, f64::min);
         out.max_tension = self
@@ -787,7 +798,9 @@ impl Drive {
         }
         let e = self.sys.energy_offset();
         out.energy_input = self.y[e];
-        out.energy_dissipated = self.y[e + 1];
+        // the state integrates the friction work; what the creep springs
+        // still store is not dissipated (it is in the potential energy)
+        out.energy_dissipated = self.y[e + 1] - self.sys.creep_spring_energy(&self.y);
         let (kin, pot) = self.sys.energies(&self.y);
         out.kinetic_energy = kin;
         out.potential_energy = pot;

@@ -21,7 +21,7 @@
 //! Factoring costs a few hundred flops per body, each solve about sixty; no
 //! allocation after construction.
 
-use super::jacobian::{Jacobian, NEXT, PREV, SELF};
+use super::jacobian::{BodyArmJacobian, BodyJacobian, Jacobian, NEXT, PREV, SELF};
 use super::model::{BeltSystem, BODY_DOF};
 use super::params::MAX_PULLEYS;
 use super::simd::{self, Isa};
@@ -218,87 +218,81 @@ impl<const NB: usize> Factors<NB> {
         }
     }
 
-    /// Reduced block S_{i,nb} for neighbour slot (PREV, SELF, NEXT).
+    /// Reduced block S_{i,nb} of body `b` for neighbour slot (PREV, SELF, NEXT).
     #[inline(always)]
-    fn block(jac: &Jacobian, c: f64, i: usize, slot: usize) -> Matrix3<f64> {
-        let b = &jac.bodies[i];
+    fn block(b: &BodyJacobian, c: f64, slot: usize) -> Matrix3<f64> {
         let mut s = -(c * c) * b.aq[slot] - c * b.av[slot];
         if slot == SELF {
-            s += Matrix3::identity() - c * b.az * Self::h_row(jac, c, i);
+            s += Matrix3::identity() - c * b.az * Self::h_row(b, c);
         }
         s
     }
 
     /// H_i = c^2 g_q + c g_v: how the creep increment follows the velocity increment.
     #[inline(always)]
-    fn h_row(jac: &Jacobian, c: f64, i: usize) -> RowVector3<f64> {
-        let b = &jac.bodies[i];
+    fn h_row(b: &BodyJacobian, c: f64) -> RowVector3<f64> {
         (c * c) * b.gq + c * b.gv
     }
 
-    /// Border column of body i for pulley j (3-vector), S_{i,w_j}.
+    /// Border column of body `b` for pulley j (3-vector), S_{i,w_j}.
     #[inline(always)]
-    fn pulley_column(jac: &Jacobian, c: f64, i: usize, j: usize) -> Vector3<f64> {
-        let b = &jac.bodies[i];
+    fn pulley_column(b: &BodyJacobian, c: f64, j: usize) -> Vector3<f64> {
         -c * b.aw[j] - (c * c * b.gw[j]) * b.az
     }
 
-    /// Pulley j's row for body i's velocities, R_{j,i}.
+    /// Pulley j's row for body `b`'s velocities, R_{j,i}.
     #[inline(always)]
-    fn pulley_row(jac: &Jacobian, c: f64, i: usize, j: usize) -> RowVector3<f64> {
-        let b = &jac.bodies[i];
-        -(c * c) * b.pq[j] - c * b.pv[j] - (c * b.pz[j]) * Self::h_row(jac, c, i)
+    fn pulley_row(b: &BodyJacobian, c: f64, j: usize) -> RowVector3<f64> {
+        -(c * c) * b.pq[j] - c * b.pv[j] - (c * b.pz[j]) * Self::h_row(b, c)
     }
 
-    /// Border column of body i for the rate of pulley j's arm (3-vector):
-    /// its angle enters as c times the rate, directly and through the creep.
+    /// Border column of body `b` (its arm rows `a`) for the rate of pulley
+    /// j's arm (3-vector): its angle enters as c times the rate, directly
+    /// and through the creep.
     #[inline(always)]
-    fn arm_column(jac: &Jacobian, c: f64, i: usize, j: usize) -> Vector3<f64> {
-        let (b, a) = (&jac.bodies[i], &jac.arm_bodies[i]);
+    fn arm_column(b: &BodyJacobian, a: &BodyArmJacobian, c: f64, j: usize) -> Vector3<f64> {
         -c * (c * a.aa[j] + a.ar[j]) - (c * c * (c * a.ga[j] + a.gr[j])) * b.az
     }
 
-    /// The row of pulley j's arm for body i's velocities.
+    /// The row of pulley j's arm for body `b`'s velocities.
     #[inline(always)]
-    fn arm_row(jac: &Jacobian, c: f64, i: usize, j: usize) -> RowVector3<f64> {
-        let a = &jac.arm_bodies[i];
-        -(c * c) * a.rq[j] - c * a.rv[j] - (c * a.rz[j]) * Self::h_row(jac, c, i)
+    fn arm_row(b: &BodyJacobian, a: &BodyArmJacobian, c: f64, j: usize) -> RowVector3<f64> {
+        -(c * c) * a.rq[j] - c * a.rv[j] - (c * a.rz[j]) * Self::h_row(b, c)
     }
 
     /// Border entries (rows of body n-1 and the pulleys) of body i's columns.
     #[inline(always)]
-    fn border_rows(
-        &self,
-        jac: &Jacobian,
-        c: f64,
-        sys: &BeltSystem,
-        i: usize,
-    ) -> SMatrix<f64, NB, 3> {
-        let n = sys.n;
+    fn border_rows(k: &View, i: usize) -> SMatrix<f64, NB, 3> {
+        let n = k.bodies.len();
         let last = n - 1;
         let mut f = SMatrix::<f64, NB, 3>::zeros();
         if i == 0 {
             f.fixed_view_mut::<3, 3>(0, 0)
-                .copy_from(&Self::block(jac, c, last, NEXT));
+                .copy_from(&Self::block(&k.bodies[last], k.c, NEXT));
         }
         if i + 2 == n {
             let mut v = f.fixed_view_mut::<3, 3>(0, 0);
-            v += Self::block(jac, c, last, PREV);
+            v += Self::block(&k.bodies[last], k.c, PREV);
         }
-        let touching = jac.bodies[i].touching;
-        for (j, s) in self.slot.iter().enumerate().take(sys.np) {
-            if let Some(k) = *s {
+        let b = &k.bodies[i];
+        let touching = b.touching;
+        for (j, s) in k.slots().iter().enumerate() {
+            if let Some(s) = *s {
                 if touching & (1 << j) != 0 {
-                    f.fixed_view_mut::<1, 3>(k, 0)
-                        .copy_from(&Self::pulley_row(jac, c, i, j));
+                    f.fixed_view_mut::<1, 3>(s, 0)
+                        .copy_from(&Self::pulley_row(b, k.c, j));
                 }
             }
         }
-        for (j, s) in self.arm_slot.iter().enumerate().take(sys.np) {
-            if let Some(k) = *s {
+        for (j, s) in k.arm_slots().iter().enumerate() {
+            if let Some(s) = *s {
                 if touching & (1 << j) != 0 {
-                    f.fixed_view_mut::<1, 3>(k, 0)
-                        .copy_from(&Self::arm_row(jac, c, i, j));
+                    f.fixed_view_mut::<1, 3>(s, 0).copy_from(&Self::arm_row(
+                        b,
+                        &k.arm_bodies[i],
+                        k.c,
+                        j,
+                    ));
                 }
             }
         }
@@ -307,37 +301,36 @@ impl<const NB: usize> Factors<NB> {
 
     /// Border columns (body n-1 and pulley speeds) of body i's rows.
     #[inline(always)]
-    fn border_cols(
-        &self,
-        jac: &Jacobian,
-        c: f64,
-        sys: &BeltSystem,
-        i: usize,
-    ) -> SMatrix<f64, 3, NB> {
-        let n = sys.n;
+    fn border_cols(k: &View, i: usize) -> SMatrix<f64, 3, NB> {
+        let n = k.bodies.len();
         let mut e = SMatrix::<f64, 3, NB>::zeros();
         if i == 0 {
             e.fixed_view_mut::<3, 3>(0, 0)
-                .copy_from(&Self::block(jac, c, 0, PREV));
+                .copy_from(&Self::block(&k.bodies[0], k.c, PREV));
         }
+        let b = &k.bodies[i];
         if i + 2 == n {
             let mut v = e.fixed_view_mut::<3, 3>(0, 0);
-            v += Self::block(jac, c, i, NEXT);
+            v += Self::block(b, k.c, NEXT);
         }
-        let touching = jac.bodies[i].touching;
-        for (j, s) in self.slot.iter().enumerate().take(sys.np) {
-            if let Some(k) = *s {
+        let touching = b.touching;
+        for (j, s) in k.slots().iter().enumerate() {
+            if let Some(s) = *s {
                 if touching & (1 << j) != 0 {
-                    e.fixed_view_mut::<3, 1>(0, k)
-                        .copy_from(&Self::pulley_column(jac, c, i, j));
+                    e.fixed_view_mut::<3, 1>(0, s)
+                        .copy_from(&Self::pulley_column(b, k.c, j));
                 }
             }
         }
-        for (j, s) in self.arm_slot.iter().enumerate().take(sys.np) {
-            if let Some(k) = *s {
+        for (j, s) in k.arm_slots().iter().enumerate() {
+            if let Some(s) = *s {
                 if touching & (1 << j) != 0 {
-                    e.fixed_view_mut::<3, 1>(0, k)
-                        .copy_from(&Self::arm_column(jac, c, i, j));
+                    e.fixed_view_mut::<3, 1>(0, s).copy_from(&Self::arm_column(
+                        b,
+                        &k.arm_bodies[i],
+                        k.c,
+                        j,
+                    ));
                 }
             }
         }
@@ -350,24 +343,26 @@ impl<const NB: usize> Factors<NB> {
         let m = n - 1;
         let last = n - 1;
         self.c = c;
+        let view = View::new(sys, jac, c, self.slot, self.arm_slot);
+        let (bodies, arm_bodies) = (view.bodies, view.arm_bodies);
         // border block G: body n-1 and pulleys
         let mut g = SMatrix::<f64, NB, NB>::identity();
         g.fixed_view_mut::<3, 3>(0, 0)
-            .copy_from(&Self::block(jac, c, last, SELF));
-        let touching_last = jac.bodies[last].touching;
-        for (j, sj) in self.slot.iter().enumerate().take(sys.np) {
+            .copy_from(&Self::block(&bodies[last], c, SELF));
+        let touching_last = bodies[last].touching;
+        for (j, sj) in view.slots().iter().enumerate() {
             let Some(kj) = *sj else { continue };
             if touching_last & (1 << j) != 0 {
                 g.fixed_view_mut::<3, 1>(0, kj)
-                    .copy_from(&Self::pulley_column(jac, c, last, j));
+                    .copy_from(&Self::pulley_column(&bodies[last], c, j));
                 g.fixed_view_mut::<1, 3>(kj, 0)
-                    .copy_from(&Self::pulley_row(jac, c, last, j));
+                    .copy_from(&Self::pulley_row(&bodies[last], c, j));
             }
             // pulley-pulley: R_{j,w_k} = delta - c pw - c^2 sum_i pz_ij gw_ik
-            for (k, sk) in self.slot.iter().enumerate().take(sys.np) {
+            for (k, sk) in view.slots().iter().enumerate() {
                 let Some(kk) = *sk else { continue };
                 let mut v = if j == k { 1.0 } else { 0.0 } - c * jac.pw[j][k];
-                for b in &jac.bodies {
+                for b in bodies {
                     if b.touching & (1 << j) != 0 {
                         v -= c * c * b.pz[j] * b.gw[k];
                     }
@@ -376,13 +371,13 @@ impl<const NB: usize> Factors<NB> {
             }
             // pulley-arm: its own arm directly (pa, pr), every arm through
             // the creep of the bodies on both
-            for (k, sk) in self.arm_slot.iter().enumerate().take(sys.np) {
+            for (k, sk) in view.arm_slots().iter().enumerate() {
                 let Some(kk) = *sk else { continue };
                 let mut v = 0.0;
                 if j == k {
                     v -= c * (c * jac.arm[j].pa + jac.arm[j].pr);
                 }
-                for (b, a) in jac.bodies.iter().zip(&jac.arm_bodies) {
+                for (b, a) in bodies.iter().zip(arm_bodies) {
                     if b.touching & (1 << j) != 0 {
                         v -= c * c * b.pz[j] * (c * a.ga[k] + a.gr[k]);
                     }
@@ -391,33 +386,41 @@ impl<const NB: usize> Factors<NB> {
             }
         }
         // arm rows: body n-1, pulley speeds, arm rates
-        for (j, sj) in self.arm_slot.iter().enumerate().take(sys.np) {
+        for (j, sj) in view.arm_slots().iter().enumerate() {
             let Some(kj) = *sj else { continue };
             if touching_last & (1 << j) != 0 {
-                g.fixed_view_mut::<3, 1>(0, kj)
-                    .copy_from(&Self::arm_column(jac, c, last, j));
-                g.fixed_view_mut::<1, 3>(kj, 0)
-                    .copy_from(&Self::arm_row(jac, c, last, j));
+                g.fixed_view_mut::<3, 1>(0, kj).copy_from(&Self::arm_column(
+                    &bodies[last],
+                    &arm_bodies[last],
+                    c,
+                    j,
+                ));
+                g.fixed_view_mut::<1, 3>(kj, 0).copy_from(&Self::arm_row(
+                    &bodies[last],
+                    &arm_bodies[last],
+                    c,
+                    j,
+                ));
             }
-            let touching = |b: &super::jacobian::BodyJacobian| b.touching & (1 << j) != 0;
-            for (k, sk) in self.slot.iter().enumerate().take(sys.np) {
+            let touching = |b: &BodyJacobian| b.touching & (1 << j) != 0;
+            for (k, sk) in view.slots().iter().enumerate() {
                 let Some(kk) = *sk else { continue };
                 let mut v = if j == k { -c * jac.arm[j].aw } else { 0.0 };
-                for (b, a) in jac.bodies.iter().zip(&jac.arm_bodies) {
+                for (b, a) in bodies.iter().zip(arm_bodies) {
                     if touching(b) {
                         v -= c * c * a.rz[j] * b.gw[k];
                     }
                 }
                 g[(kj, kk)] = v;
             }
-            for (k, sk) in self.arm_slot.iter().enumerate().take(sys.np) {
+            for (k, sk) in view.arm_slots().iter().enumerate() {
                 let Some(kk) = *sk else { continue };
                 let mut v = if j == k {
                     1.0 - c * (c * jac.arm[j].aa + jac.arm[j].ar)
                 } else {
                     0.0
                 };
-                for (b, a) in jac.bodies.iter().zip(&jac.arm_bodies) {
+                for (b, a) in bodies.iter().zip(arm_bodies) {
                     if touching(b) {
                         v -= c * c * a.rz[j] * (c * a.ga[k] + a.gr[k]);
                     }
@@ -443,32 +446,34 @@ impl<const NB: usize> Factors<NB> {
                 g[(kj, kj)] -= c * (d.ht * h[0] + d.hr * h[1]);
             }
         }
-        // forward elimination over bodies 0..n-2
+        // forward elimination over bodies 0..n-2, into the factors' slices
+        let (dinv_s, l_s, u_s) = (&mut self.dinv[..m], &mut self.l[..m], &mut self.u[..m]);
+        let (e_s, fd_s) = (&mut self.e[..m], &mut self.fd[..m]);
         for i in 0..m {
-            let mut d = Self::block(jac, c, i, SELF);
-            let mut e = self.border_cols(jac, c, sys, i);
-            let mut f = self.border_rows(jac, c, sys, i);
+            let mut d = Self::block(&bodies[i], c, SELF);
+            let mut e = Self::border_cols(&view, i);
+            let mut f = Self::border_rows(&view, i);
             if i > 0 {
-                let lower = Self::block(jac, c, i, PREV);
-                let l = lower * self.dinv[i - 1];
-                d -= l * self.u[i - 1];
-                e -= l * self.e[i - 1];
-                f -= self.fd[i - 1] * self.u[i - 1];
-                self.l[i] = l;
+                let lower = Self::block(&bodies[i], c, PREV);
+                let l = lower * dinv_s[i - 1];
+                d -= l * u_s[i - 1];
+                e -= l * e_s[i - 1];
+                f -= fd_s[i - 1] * u_s[i - 1];
+                l_s[i] = l;
             }
             let Some(dinv) = d.try_inverse() else {
                 return false;
             };
-            self.dinv[i] = dinv;
-            self.u[i] = if i + 1 < m {
-                Self::block(jac, c, i, NEXT)
+            dinv_s[i] = dinv;
+            u_s[i] = if i + 1 < m {
+                Self::block(&bodies[i], c, NEXT)
             } else {
                 Matrix3::zeros()
             };
             let fd = f * dinv;
             g -= fd * e;
-            self.e[i] = e;
-            self.fd[i] = fd;
+            e_s[i] = e;
+            fd_s[i] = fd;
         }
         // LU of the border with partial pivoting (unused slots are identity)
         let mut perm: [usize; NB] = std::array::from_fn(|i| i);
@@ -498,11 +503,12 @@ impl<const NB: usize> Factors<NB> {
 
     /// Writes body i's increments: velocities `dv`, positions `b_q + c dv`,
     /// creep state from `bz` (its reduced right-hand side) and the pulley
-    /// speed increments `dw`.
+    /// speed increments `dw`; `arm` is the body's arm rows if the drive has arms.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn recover(
-        jac: &Jacobian,
+        bj: &BodyJacobian,
+        arm: Option<&BodyArmJacobian>,
         c: f64,
         dw: &[f64],
         dr: &[f64],
@@ -511,7 +517,6 @@ impl<const NB: usize> Factors<NB> {
         dv: Vector3<f64>,
         bz: f64,
     ) {
-        let bj = &jac.bodies[i];
         let o = BODY_DOF * i;
         let dq = positions(b, i) + c * dv;
         // bz is b_z + c g_q b_q (+ c g_alpha b_alpha); add the terms of the
@@ -521,7 +526,7 @@ impl<const NB: usize> Factors<NB> {
             for (g, w) in bj.gw.iter().zip(dw) {
                 dz += c * g * w;
             }
-            if let Some(a) = jac.arm_bodies.get(i) {
+            if let Some(a) = arm {
                 for ((ga, gr), r) in a.ga.iter().zip(&a.gr).zip(dr) {
                     dz += c * (c * ga + gr) * r;
                 }
@@ -540,10 +545,15 @@ impl<const NB: usize> Factors<NB> {
         let n = sys.n;
         let m = n - 1;
         let c = self.c;
+        let view = View::new(sys, jac, c, self.slot, self.arm_slot);
+        let (bodies, arm_bodies) = (view.bodies, view.arm_bodies);
+        let (dinv_s, l_s, u_s) = (&self.dinv[..m], &self.l[..m], &self.u[..m]);
+        let (e_s, fd_s) = (&self.e[..m], &self.fd[..m]);
+        let (rv_s, bz_s) = (&mut self.rv[..n], &mut self.bz[..n]);
         // 1. forward: reduced right-hand sides (positions and creep
         //    eliminated), each eliminated as soon as it is formed
         let mut rw = SVector::<f64, NB>::zeros();
-        for (j, s) in self.slot.iter().enumerate().take(sys.np) {
+        for (j, s) in view.slots().iter().enumerate() {
             if let Some(k) = *s {
                 rw[k] = b[sys.pulley_offset(j) + 1];
             }
@@ -551,28 +561,28 @@ impl<const NB: usize> Factors<NB> {
         // the arms' angle increments' right-hand sides b_alpha, which enter
         // like the bodies' positions
         let mut b_arm = [0.0; MAX_PULLEYS];
-        for (j, s) in self.arm_slot.iter().enumerate().take(sys.np) {
+        for (j, s) in view.arm_slots().iter().enumerate() {
             if let Some(k) = *s {
                 let o = sys.pulleys[j].arm_offset;
                 b_arm[j] = b[o];
                 let a = &jac.arm[j];
                 rw[k] = b[o + 1] + c * a.aa * b[o];
-                if let Some(kp) = self.slot[j] {
+                if let Some(kp) = view.slot[j] {
                     rw[kp] += c * a.pa * b[o];
                 }
             }
         }
         let mut prev_rv = Vector3::zeros();
         let (mut q_prev, mut q_self) = (positions(b, n - 1), positions(b, 0));
-        for (i, bj) in jac.bodies.iter().enumerate() {
+        for (i, bj) in bodies.iter().enumerate() {
             let o = BODY_DOF * i;
             let q_next = positions(b, if i + 1 == n { 0 } else { i + 1 });
             let mut bz = b[o + 6] + c * bj.gq.dot(&q_self.transpose());
             let mut rv = Vector3::new(b[o + 3], b[o + 4], b[o + 5])
                 + c * (bj.aq[PREV] * q_prev + bj.aq[SELF] * q_self + bj.aq[NEXT] * q_next);
             if bj.touching != 0 {
-                if let Some(a) = jac.arm_bodies.get(i) {
-                    for (j, s) in self.arm_slot.iter().enumerate().take(sys.np) {
+                if let Some(a) = arm_bodies.get(i) {
+                    for (j, s) in view.arm_slots().iter().enumerate() {
                         if s.is_some() && bj.touching & (1 << j) != 0 {
                             bz += c * a.ga[j] * b_arm[j];
                             rv += (c * b_arm[j]) * a.aa[j];
@@ -580,18 +590,18 @@ impl<const NB: usize> Factors<NB> {
                     }
                 }
             }
-            self.bz[i] = bz;
+            bz_s[i] = bz;
             rv += (c * bz) * bj.az;
             if bj.touching != 0 {
-                for (j, s) in self.slot.iter().enumerate().take(sys.np) {
+                for (j, s) in view.slots().iter().enumerate() {
                     if let Some(k) = *s {
                         if bj.touching & (1 << j) != 0 {
                             rw[k] += c * (bj.pq[j].dot(&q_self.transpose()) + bj.pz[j] * bz);
                         }
                     }
                 }
-                if let Some(a) = jac.arm_bodies.get(i) {
-                    for (j, s) in self.arm_slot.iter().enumerate().take(sys.np) {
+                if let Some(a) = arm_bodies.get(i) {
+                    for (j, s) in view.arm_slots().iter().enumerate() {
                         if let Some(k) = *s {
                             if bj.touching & (1 << j) != 0 {
                                 rw[k] += c * (a.rq[j].dot(&q_self.transpose()) + a.rz[j] * bz);
@@ -602,15 +612,15 @@ impl<const NB: usize> Factors<NB> {
             }
             if i < m {
                 if i > 0 {
-                    rv -= self.l[i] * prev_rv;
+                    rv -= l_s[i] * prev_rv;
                 }
-                rw -= self.fd[i] * rv;
+                rw -= fd_s[i] * rv;
                 prev_rv = rv;
             } else {
                 let mut top = rw.fixed_view_mut::<3, 1>(0, 0);
                 top += rv;
             }
-            self.rv[i] = rv;
+            rv_s[i] = rv;
             (q_prev, q_self) = (q_self, q_next);
         }
         // decouplers: their part of the hub rows' right-hand side
@@ -622,7 +632,7 @@ impl<const NB: usize> Factors<NB> {
             let o = sys.pulleys[j].decoupler_offset;
             let gv = self.dec_ainv[j] * Vector2::new(b[o], b[o + 1]);
             *g = gv;
-            if let Some(k) = self.slot[j] {
+            if let Some(k) = view.slot[j] {
                 let d = &jac.dec[j];
                 rw[k] += c * (d.ht * gv[0] + d.hr * gv[1]);
             }
@@ -646,7 +656,7 @@ impl<const NB: usize> Factors<NB> {
         }
         // pulley speeds and angles
         let mut dw = [0.0; MAX_PULLEYS];
-        for (j, s) in self.slot.iter().enumerate().take(sys.np) {
+        for (j, s) in view.slots().iter().enumerate() {
             if let Some(k) = *s {
                 dw[j] = xb[k];
                 let o = sys.pulley_offset(j);
@@ -664,7 +674,7 @@ impl<const NB: usize> Factors<NB> {
         }
         // arm rates and angles
         let mut dr = [0.0; MAX_PULLEYS];
-        for (j, s) in self.arm_slot.iter().enumerate().take(sys.np) {
+        for (j, s) in view.arm_slots().iter().enumerate() {
             if let Some(k) = *s {
                 dr[j] = xb[k];
                 let o = sys.pulleys[j].arm_offset;
@@ -673,24 +683,36 @@ impl<const NB: usize> Factors<NB> {
             }
         }
         // 2. backward: velocities, then positions and creep of each body
+        let (dw, dr) = (&dw[..sys.np], &dr[..sys.np]);
         Self::recover(
-            jac,
+            &bodies[n - 1],
+            arm_bodies.get(n - 1),
             c,
-            &dw[..sys.np],
-            &dr[..sys.np],
+            dw,
+            dr,
             b,
             n - 1,
             Vector3::new(xb[0], xb[1], xb[2]),
-            self.bz[n - 1],
+            bz_s[n - 1],
         );
         let mut next = Vector3::zeros();
         for i in (0..m).rev() {
-            let mut r = self.rv[i] - self.e[i] * xb;
+            let mut r = rv_s[i] - e_s[i] * xb;
             if i + 1 < m {
-                r -= self.u[i] * next;
+                r -= u_s[i] * next;
             }
-            next = self.dinv[i] * r;
-            Self::recover(jac, c, &dw[..sys.np], &dr[..sys.np], b, i, next, self.bz[i]);
+            next = dinv_s[i] * r;
+            Self::recover(
+                &bodies[i],
+                arm_bodies.get(i),
+                c,
+                dw,
+                dr,
+                b,
+                i,
+                next,
+                bz_s[i],
+            );
         }
         // 3. impulses and the input energy: nothing depends on them, their
         //    rows give x_q = b_q + c (dG/dy) x
@@ -702,6 +724,55 @@ impl<const NB: usize> Factors<NB> {
                 b[q + k] += c * v;
             }
         }
+    }
+}
+
+/// What the factorization and the solves read in their loops, taken once
+/// per call: the Jacobian's per-body rows as slices and the border slots by
+/// value. The kernels run inside `simd::dispatch_with`, whose argument tuple
+/// carries no no-alias guarantee, so reached through `self` and `jac` every
+/// vector's pointer and length and every slot would be reloaded after each
+/// store (11 % more instructions in the solves, 5 % in the factorization on
+/// the 150-body 5PK drive; docs/benchmarks.md).
+struct View<'a> {
+    c: f64,
+    bodies: &'a [BodyJacobian],
+    /// Empty if the drive has no tensioner arm.
+    arm_bodies: &'a [BodyArmJacobian],
+    slot: [Option<usize>; MAX_PULLEYS],
+    arm_slot: [Option<usize>; MAX_PULLEYS],
+    np: usize,
+}
+
+impl<'a> View<'a> {
+    #[inline(always)]
+    fn new(
+        sys: &BeltSystem,
+        jac: &'a Jacobian,
+        c: f64,
+        slot: [Option<usize>; MAX_PULLEYS],
+        arm_slot: [Option<usize>; MAX_PULLEYS],
+    ) -> Self {
+        Self {
+            c,
+            bodies: &jac.bodies[..sys.n],
+            arm_bodies: &jac.arm_bodies,
+            slot,
+            arm_slot,
+            np: sys.np,
+        }
+    }
+
+    /// Border index of each pulley's speed, if a state.
+    #[inline(always)]
+    fn slots(&self) -> &[Option<usize>] {
+        &self.slot[..self.np]
+    }
+
+    /// Border index of each pulley's arm rate, if it has an arm.
+    #[inline(always)]
+    fn arm_slots(&self) -> &[Option<usize>] {
+        &self.arm_slot[..self.np]
     }
 }
 

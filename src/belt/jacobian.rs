@@ -29,7 +29,7 @@
 
 use super::elements::contact;
 use super::elements::sde::{self, BodyEnd};
-use super::model::{BeltSystem, PulleyConst, BODY_DOF};
+use super::model::{BeltSystem, BODY_DOF};
 use super::params::MAX_PULLEYS;
 use super::simd::{self, Isa};
 use super::trig;
@@ -294,7 +294,9 @@ impl Jacobian {
     /// The impulse rows applied to `x` (a full state vector): the rates of
     /// belt torque, drive torque and hub force x, y of each pulley that the
     /// linearisation gives for the state change `x` (`[pulley][4]`), and the
-    /// rate of the input power (the `energy.input` row).
+    /// rate of the input power (the `energy.input` row). Inlined into the
+    /// stage solve (built for its instruction set).
+    #[inline(always)]
     pub fn impulse_rows(&self, sys: &BeltSystem, x: &[f64]) -> ([[f64; 4]; MAX_PULLEYS], f64) {
         let np = sys.np;
         let mut torque = [0.0; MAX_PULLEYS];
@@ -501,7 +503,7 @@ impl BeltSystem {
         jac.pw = [[0.0; MAX_PULLEYS]; MAX_PULLEYS];
         jac.tw = [0.0; MAX_PULLEYS];
         jac.hw = [Vector2::zeros(); MAX_PULLEYS];
-        let mut buf = [PulleyConst::NONE; MAX_PULLEYS];
+        let mut buf = None;
         let pulleys = self.pulleys_in_effect(&mut buf);
         let (inv_m, inv_i) = (self.inv_mass, self.inv_inertia);
         let row_scale = [inv_m, inv_m, inv_i];

@@ -74,6 +74,9 @@ pub trait Recorder {
     /// damping, friction slip without the creep springs); the shares of
     /// one evaluation add up to the belt's loss.
     fn belt_loss(&mut self, _p: f64) {}
+    /// A contact's power stored in its creep spring (elements::friction):
+    /// the part of `power`'s dissipated power that is not lost.
+    fn creep_spring_power(&mut self, _p: f64) {}
 }
 
 /// The recorder of the hot path: records nothing.
@@ -211,7 +214,7 @@ struct Block {
     cdz: [f64; BLOCK + PAD],
     torque_q: [f64; BLOCK + PAD],
     diss_q: [f64; BLOCK + PAD],
-    rec_q: [[f64; 8]; BLOCK + PAD],
+    rec_q: [[f64; 9]; BLOCK + PAD],
 }
 
 impl Block {
@@ -246,7 +249,7 @@ impl Block {
             cdz: B,
             torque_q: B,
             diss_q: B,
-            rec_q: [[0.0; 8]; BLOCK + PAD],
+            rec_q: [[0.0; 9]; BLOCK + PAD],
         }
     }
 
@@ -609,15 +612,18 @@ impl BeltSystem {
     }
 
     /// All pulleys as [`Self::pulley_in_effect`] gives them: the system's
-    /// own array while running, else `buf` filled.
+    /// own array while running, else `buf` filled (left empty while running:
+    /// filling it on every call cost the right-hand side 1.7 % of its
+    /// instructions).
     #[inline(always)]
     pub(super) fn pulleys_in_effect<'a>(
         &'a self,
-        buf: &'a mut [PulleyConst; MAX_PULLEYS],
+        buf: &'a mut Option<[PulleyConst; MAX_PULLEYS]>,
     ) -> &'a [PulleyConst; MAX_PULLEYS] {
         if self.relaxation == Relaxation::NONE {
             return &self.pulleys;
         }
+        let buf = buf.insert([PulleyConst::NONE; MAX_PULLEYS]);
         for (j, pc) in buf.iter_mut().enumerate().take(self.np) {
             *pc = self.pulley_in_effect(j);
         }
@@ -741,7 +747,7 @@ impl BeltSystem {
         let np = self.np;
         assert!(y.len() >= self.dim() && dy.len() >= self.dim());
         let blk: &mut Block = &mut ws.block;
-        let mut buf = [PulleyConst::NONE; MAX_PULLEYS];
+        let mut buf = None;
         let pulleys = self.pulleys_in_effect(&mut buf);
 
         let mut omega_p = [0.0; MAX_PULLEYS];
@@ -1067,6 +1073,7 @@ impl BeltSystem {
                 if v[6] != 0.0 {
                     rec.contact(i0 + j, q, v[0], v[1], v[2], v[3]);
                     rec.belt_loss(v[7]);
+                    rec.creep_spring_power(v[8]);
                 }
             }
         }
@@ -1100,6 +1107,38 @@ impl BeltSystem {
         }
     }
 
+    /// Energy stored in the creep springs of every contact of state `y`:
+    /// the elastic normal force times the spring energy per newton
+    /// (elements::friction, `Friction::spring_energy`). Part of the
+    /// potential energy; the integrated friction work less it is what
+    /// friction has dissipated.
+    pub fn creep_spring_energy(&self, y: &[f64]) -> f64 {
+        let mut centres = [[0.0; 2]; MAX_PULLEYS];
+        for (j, c) in centres.iter_mut().enumerate().take(self.np) {
+            *c = self.pulley_centre(j, y).0;
+        }
+        (0..self.n)
+            .map(|i| self.creep_spring_energy_of(i, y, &centres))
+            .sum()
+    }
+
+    /// [`Self::creep_spring_energy`] of body `i` (pulley centres given).
+    fn creep_spring_energy_of(&self, i: usize, y: &[f64], centres: &[[f64; 2]]) -> f64 {
+        let b = &y[BODY_DOF * i..BODY_DOF * (i + 1)];
+        let zf = self.zone_factor[i];
+        let mut e = 0.0;
+        for (pc, c) in self.pulleys[..self.np].iter().zip(centres) {
+            let p = pc.radius - (b[0] - c[0]).hypot(b[1] - c[1]);
+            if p > 0.0 {
+                e += self.contact.elastic_force(p)
+                    * self
+                        .friction
+                        .spring_energy(b[6], pc.mu_s * zf, pc.mu_k * zf);
+            }
+        }
+        e
+    }
+
     /// Kinetic and potential (elastic + gravity) energy of state `y`.
     pub fn energies(&self, y: &[f64]) -> (f64, f64) {
         let n = self.n;
@@ -1119,6 +1158,7 @@ impl BeltSystem {
                 let dist = (b[0] - c[0]).hypot(b[1] - c[1]);
                 pot += self.contact.energy(pc.radius - dist);
             }
+            pot += self.creep_spring_energy_of(i, y, &centres);
             let q = &y[BODY_DOF * ((i + n - 1) % n)..];
             let at = |b: &[f64]| {
                 let (s, c) = b[2].sin_cos();
@@ -1179,7 +1219,7 @@ fn contact_arc(
     dz: &mut [f64],
     torque: &mut [f64],
     diss: &mut [f64],
-    mut rec: Option<&mut [[f64; 8]]>,
+    mut rec: Option<&mut [[f64; 9]]>,
 ) {
     let k = ofx.len();
     let [xs, ys, vxs, vys, zs, zfs] = body;
@@ -1233,10 +1273,21 @@ fn contact_arc(
         diss[i] = keep(contact::dissipation(&kin, normal, elastic, f));
         if let Some(r) = rec.as_deref_mut() {
             // the contact's share of the belt's loss: its normal damper and
-            // friction slip (the creep spring's power is not counted,
-            // elements::friction)
-            let loss = (normal - elastic) * kin.p_dot
-                + friction.slip_loss(kin.v_t, z, mu_s * zf, mu_k * zf, normal);
+            // friction slip; and the power its creep spring stores (the
+            // friction power less what it dissipates, elements::friction)
+            let (ms, mk) = (mu_s * zf, mu_k * zf);
+            let loss =
+                (normal - elastic) * kin.p_dot + friction.slip_loss(kin.v_t, z, ms, mk, normal);
+            let stored = f * kin.v_t
+                - friction.dissipated_power(
+                    kin.v_t,
+                    z,
+                    ms,
+                    mk,
+                    normal,
+                    elastic,
+                    law.elastic_rate(kin.p, kin.p_dot),
+                );
             r[i] = [
                 normal,
                 f,
@@ -1246,6 +1297,7 @@ fn contact_arc(
                 fy,
                 f64::from(u8::from(inside)),
                 loss,
+                stored,
             ];
         }
     }

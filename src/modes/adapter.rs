@@ -26,6 +26,15 @@ pub struct PulleyInfo {
     pub pitch_angle: f64,
     /// +1 wrapped inside the loop, -1 back-side idler.
     pub side: f64,
+    /// The model's friction lever: the pulley's surface speed is omega
+    /// times it (`PulleyConst::lever`, read from the model, not recomputed).
+    pub lever: f64,
+    /// Tensioner arm: index of its angle (the rate follows) and its moment
+    /// of inertia about the pivot [kg m^2].
+    pub arm: Option<(usize, f64)>,
+    /// Decoupler: index of its twist (the rotor speed follows) and the
+    /// rotor's moment of inertia [kg m^2].
+    pub decoupler: Option<(usize, f64)>,
 }
 
 /// The drive's state and Jacobian at one instant, with the state layout.
@@ -67,8 +76,31 @@ impl Linearisation {
     pub fn energy(&self) -> usize {
         BODY_STATES * self.n + 2 * self.pulleys.len()
     }
+    /// Indices of the states that repeat in steady running (shifted by one
+    /// body for the belt): every body's, the free pulleys' speeds, the
+    /// decouplers' and the arms'. Left out: the pulley angles (nothing
+    /// depends on them), the prescribed speeds, the energy accumulators and
+    /// the impulses (quadratures).
+    pub fn periodic_states(&self) -> Vec<usize> {
+        let mut out: Vec<usize> = (0..BODY_STATES * self.n).collect();
+        for (j, p) in self.pulleys.iter().enumerate() {
+            if !p.speed_driven {
+                out.push(self.pulley(j).1);
+            }
+        }
+        for p in &self.pulleys {
+            if let Some((o, _)) = p.decoupler {
+                out.extend([o, o + 1]);
+            }
+            if let Some((o, _)) = p.arm {
+                out.extend([o, o + 1]);
+            }
+        }
+        out
+    }
+
     /// The pulley whose circle contains body `i`'s centre (the contact test
-    /// of the model), if any.
+    /// of the model, with the centre where its arm has moved it), if any.
     pub fn contact_of(&self, i: usize) -> Option<usize> {
         let (x, y) = (self.y[self.body(i, 0)], self.y[self.body(i, 1)]);
         self.pulleys.iter().position(|p| {
@@ -113,14 +145,20 @@ pub fn linearise(drive: &Drive) -> Linearisation {
         .enumerate()
         .map(|(j, p)| {
             let wrap = layout.wrap_of(j);
+            let pc = &sys.pulleys()[j];
             PulleyInfo {
-                centre: [p.x, p.y],
+                centre: sys.pulley_centre(j, &y).0,
                 radius: p.radius,
                 inertia: p.inertia,
                 speed_driven: p.speed_driven,
                 omega: sys.pulley_speed(j, t, &y),
                 pitch_angle: wrap.map_or(0.0, |w| w.pitch_angle),
                 side: wrap.map_or(1.0, |w| w.side),
+                lever: pc.lever,
+                arm: pc.arm.map(|a| (pc.arm_offset, a.inertia)),
+                decoupler: pc
+                    .decoupler
+                    .map(|_| (pc.decoupler_offset, pc.rotor_inertia)),
             }
         })
         .collect();

@@ -59,8 +59,8 @@ pub enum Part {
     SpanLongitudinal(usize),
     /// Pulley j's rotation (1-based).
     PulleyRotation(usize),
-    /// Tensioner arm j (1-based). Hook: the state has no arm yet; when it
-    /// does, its rotational kinetic energy joins the shares in [`classify`].
+    /// The tensioner arm carrying pulley j (1-based): its swing about the
+    /// pivot (arm and pulley inertia about the pivot).
     Arm(usize),
     /// Bodies rotating against their neighbours: an artefact of the discrete belt.
     BeltPitching,
@@ -447,7 +447,7 @@ pub fn classify(
                 // pulley's rotation; only the motion against it is the
                 // creep spring's.
                 let p = &lin.pulleys[j];
-                let surface = v[lin.pulley(j).1] * (p.side * p.radius);
+                let surface = v[lin.pulley(j).1] * (p.side * p.lever);
                 if !p.speed_driven && (t - surface).norm() < 0.5 * t.norm() {
                     pulley[j] += ke_t;
                 } else {
@@ -456,9 +456,17 @@ pub fn classify(
             }
         }
     }
+    let mut arm = vec![0.0; np];
     for (j, p) in lin.pulleys.iter().enumerate() {
         if !p.speed_driven {
             pulley[j] += p.inertia * v[lin.pulley(j).1].norm_sqr();
+        }
+        // a decoupler's rotor turns with its pulley (the alternator's rotor)
+        if let Some((o, inertia)) = p.decoupler {
+            pulley[j] += inertia * v[o + 1].norm_sqr();
+        }
+        if let Some((o, inertia)) = p.arm {
+            arm[j] += inertia * v[o + 1].norm_sqr();
         }
     }
     let mut best = (Part::BeltPitching, pitching);
@@ -480,6 +488,9 @@ pub fn classify(
     for (j, &e) in pulley.iter().enumerate() {
         consider(Part::PulleyRotation(j + 1), e);
     }
+    for (j, &e) in arm.iter().enumerate() {
+        consider(Part::Arm(j + 1), e);
+    }
     let share = if total > 0.0 { best.1 / total } else { 0.0 };
     // All free pulleys' surfaces moving together, within a factor 2 and in
     // phase: the belt turns round as a whole.
@@ -489,7 +500,7 @@ pub fn classify(
             .iter()
             .enumerate()
             .filter(|(_, p)| !p.speed_driven)
-            .map(|(j, p)| v[lin.pulley(j).1] * (p.side * p.radius))
+            .map(|(j, p)| v[lin.pulley(j).1] * (p.side * p.lever))
             .collect();
         // (a speed-driven pulley holds the belt: no rigid rotation then)
         let all_free = lin.pulleys.iter().all(|p| !p.speed_driven);

@@ -2,6 +2,8 @@
 //! state quickly, and time averages of outputs.
 #![allow(dead_code)]
 
+pub mod arm;
+
 use belt_drive::belt::params::PulleyParams;
 use belt_drive::belt::{Drive, DriveParams, FrictionLaw, Inputs, Outputs};
 

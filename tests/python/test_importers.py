@@ -158,7 +158,10 @@ def test_fmi_sim_sets_parameters_like_fmpy(fmi_sim, tmp_path):
              "pulley[1].speedDriven": True, "pulley[1].torqueRamp": 0.0,
              "pulley[1].omegaRamp": -20.0, "pulley[1].rampTime": 0.02}
     names = ["pulley[1].omega", "pulley[2].omega", "pulley[1].driveTorque",
-             "span[1].tension", "span[2].tension", "pulley[2].hubForce.x"]
+             "span[1].tension", "span[2].tension", "pulley[2].meanHubForce.x"]
+    # the hub force as its mean over the communication step: the instantaneous
+    # one carries the body-passing ripple, which the two masters' step
+    # sequences sample differently by more than the error estimate below
     stop, step, tol = 0.03, 1e-3, 1e-4
     ref = simulate_fmu(str(FMU), stop_time=stop, output_interval=step, relative_tolerance=tol,
                        start_values=start, output=names)
@@ -169,10 +172,13 @@ def test_fmi_sim_sets_parameters_like_fmpy(fmi_sim, tmp_path):
     assert np.isclose(out["pulley[1].omega"][-1], -20.0, rtol=1e-12)
     # Same start values and communication points: the runs differ by FMPy's
     # step-size arithmetic (see above), so to the level of the integration
-    # error: 4 e, e estimated from FMPy at tol and tol / 10 (module docstring).
+    # error: 4 e, e estimated from FMPy at tol and tol / 10 (module docstring),
+    # plus round-off (1e-12 of the signal) for the prescribed speed, which
+    # both tolerances give to the last bits.
     tight = simulate_fmu(str(FMU), stop_time=stop, output_interval=step, relative_tolerance=tol / 10,
                          start_values=start, output=names)
-    assert_agree(out, ref, names, {n: 4 * np.max(np.abs(ref[n] - tight[n])) for n in names})
+    assert_agree(out, ref, names, {n: 4 * np.max(np.abs(ref[n] - tight[n]))
+                                   + 1e-12 * np.max(np.abs(ref[n])) for n in names})
 
 
 # --- libcosim, Ecos, fmu-manipulation-toolbox --------------------------------

@@ -478,8 +478,9 @@ mod tests {
     #[test]
     fn exclusive_ends_are_shown() {
         let xml = XML.replacen(
-            "start=\"1\" min=\"0\"/>",
-            "start=\"1\" min=\"0\"/><Annotations><Tool name=\"BeltDrive\"><Range min=\"exclusive\"/></Tool></Annotations>",
+            "  <ModelVariables>",
+            "  <VendorAnnotations><Tool name=\"BeltDrive\"><ExclusiveBounds>\
+             <Range variable=\"m\" min=\"exclusive\"/></ExclusiveBounds></Tool></VendorAnnotations>\n  <ModelVariables>",
             1,
         );
         let info = parse_model_description(&xml).unwrap();

@@ -90,6 +90,19 @@ impl ContactLaw {
         (n.max(0.0), elastic)
     }
 
+    /// Rate of the elastic part of the normal force, dN_e/dt = (2 c1 p + c2)
+    /// p_dot, for the energy its creep spring stores (elements::friction).
+    #[inline(always)]
+    pub fn elastic_rate(&self, p: f64, p_dot: f64) -> f64 {
+        (2.0 * self.c1 * p + self.c2) * p_dot
+    }
+
+    /// Elastic part of the normal force at penetration `p` > 0.
+    #[inline(always)]
+    pub fn elastic_force(&self, p: f64) -> f64 {
+        (self.c1 * p + self.c2) * p
+    }
+
     /// Damping ratio of a body of `mass` bouncing on the pulley at
     /// penetration `p`: delta(p) b / (2 sqrt(k m)) with the tangent
     /// stiffness k = 2 c1 p + c2 (eq. 9-11).

@@ -230,6 +230,66 @@ impl Friction {
         (normal * ((mu - mu0) * dz + mu * (v_t - dz))).max(0.0)
     }
 
+    /// Energy stored in the creep spring per newton of normal force [m]:
+    /// Phi(z) = integral from 0 to z of mu(0, z') dz', the work of the force
+    /// the law gives at rest (the creep law's spring mu_s S(z / Delta_max)
+    /// and its softening to mu_k beyond Delta_max; eq. 13's mu1 of
+    /// kubas2014). Even in z, >= 0, and Phi'(z) = mu(0, z). With
+    /// u = |z| / Delta_max: mu_s Delta_max (3u^2/4 - u^4/8) for u <= 1 (the
+    /// integral of S), and beyond it the sliding coefficient's integral.
+    #[inline(always)]
+    pub fn spring_energy(&self, z: f64, mu_s: f64, mu_k: f64) -> f64 {
+        let u = z.abs() * self.inv_creep_max;
+        let elastic = |u: f64| 0.75 * u * u - 0.125 * u * u * u * u;
+        let beyond = (u - 1.0).max(0.0);
+        let slide = match self.law {
+            // mu_s + (mu_k - mu_s) smoothstep(2 (u - 1)): the smoothstep's
+            // integral over [0, x] is x^3 - x^4/2 (x <= 1), then 1/2 + (x - 1)
+            FrictionLaw::Creep => {
+                let x = 2.0 * beyond;
+                let w = x.min(1.0);
+                let ramp = w * w * w - 0.5 * w * w * w * w + (x - 1.0).max(0.0);
+                mu_s * beyond + 0.5 * (mu_k - mu_s) * ramp
+            }
+            FrictionLaw::Kubas2014 => mu_s * beyond,
+        };
+        self.creep_max * (mu_s * elastic(u.min(1.0)) + slide)
+    }
+
+    /// What a contact's friction adds to the drive's dissipated energy:
+    /// the friction power f v_T (f = mu N, `normal` = N >= 0) less the rate
+    /// of change of the energy stored in its creep spring, `elastic`
+    /// Phi(z) (`elastic` = N_e the elastic part of the normal force,
+    /// `elastic_rate` its rate dN_e/dt; [`Self::spring_energy`]):
+    ///   f v_T - N_e mu(0, z) dz/dt - dN_e/dt Phi(z)
+    ///   = [`Self::slip_loss`] + (N - N_e) mu(0, z) dz/dt - dN_e/dt Phi(z).
+    /// Beyond the slip loss it holds the spring's exchange with the normal
+    /// force: the spring's stiffness follows N (eq. 13), so it releases its
+    /// energy as the contact unloads at a creep z (a body leaving the wrap
+    /// with its creep at the cap: a loss) and gains energy the friction
+    /// force did not supply as the contact loads at a creep z (a body
+    /// landing while its creep builds up). That exchange is not signed:
+    /// over a body's pass over a wrap (landing at z = 0, leaving at N = 0)
+    /// it adds up to the spring's net work, a loss, but at an instant it
+    /// swings both ways (docs/model.md, "Outputs").
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    pub fn dissipated_power(
+        &self,
+        v_t: f64,
+        z: f64,
+        mu_s: f64,
+        mu_k: f64,
+        normal: f64,
+        elastic: f64,
+        elastic_rate: f64,
+    ) -> f64 {
+        let mu = self.coefficient(v_t, z, mu_s, mu_k);
+        let mu0 = self.coefficient(0.0, z, mu_s, mu_k);
+        let dz = self.creep_rate(v_t, z);
+        normal * mu * v_t - elastic * mu0 * dz - elastic_rate * self.spring_energy(z, mu_s, mu_k)
+    }
+
     /// Slope of [`Self::creep_rate`] in `v_t`: 1, or 0 while held at the cap.
     #[inline(always)]
     pub fn creep_rate_slope(&self, v_t: f64, z: f64) -> f64 {
@@ -329,6 +389,75 @@ mod tests {
                     }
                 }
             }
+        }
+    }
+
+    /// The spring energy's slope is the force the law gives at rest,
+    /// mu(0, z) (central differences through the elastic range, the
+    /// softening band and beyond the cap, both signs), and it is even and
+    /// zero at z = 0.
+    #[test]
+    fn spring_energy_is_the_integral_of_the_force_at_rest() {
+        let (ms, mk) = (1.05, 0.9);
+        for law in [FrictionLaw::Creep, FrictionLaw::Kubas2014] {
+            let f = Friction::new(law, 1e-3, 1e-4, 3e-4);
+            assert_eq!(f.spring_energy(0.0, ms, mk), 0.0);
+            for &z in &[2e-5, 7e-5, 9.9e-5, 1.1e-4, 1.3e-4, 1.49e-4, 1.6e-4] {
+                let e = 1e-9;
+                let slope =
+                    (f.spring_energy(z + e, ms, mk) - f.spring_energy(z - e, ms, mk)) / (2.0 * e);
+                let mu0 = f.coefficient(0.0, z, ms, mk);
+                assert!(
+                    (slope - mu0).abs() < 1e-6,
+                    "{law:?} z={z}: {slope} vs {mu0}"
+                );
+                assert_eq!(f.spring_energy(-z, ms, mk), f.spring_energy(z, ms, mk));
+            }
+        }
+    }
+
+    /// Along a contact history (creep, normal force and slip velocity
+    /// varying in time, through the elastic range, the softening band and
+    /// the cap, loading and unloading), the friction work equals the
+    /// dissipated power integrated plus the change of the spring energy
+    /// N_e Phi(z), to the quadrature's error: nothing counted twice or left
+    /// out.
+    #[test]
+    fn dissipated_power_and_spring_energy_account_for_the_friction_work() {
+        let (ms, mk) = (1.05, 0.9);
+        for law in [FrictionLaw::Creep, FrictionLaw::Kubas2014] {
+            let f = Friction::new(law, 1e-3, 1e-4, 3e-4);
+            // N_e(t) loading and unloading; N = N_e + a damper share
+            let ne = |t: f64| 60.0 + 50.0 * (7.0 * t).sin();
+            let ne_rate = |t: f64| 350.0 * (7.0 * t).cos();
+            let normal = |t: f64| (ne(t) + 0.002 * ne_rate(t)).max(0.0);
+            let v_t = |t: f64| 1e-3 * (5.0 * t).cos() + 2e-4 * (13.0 * t).sin();
+            let (mut z, mut work, mut loss) = (0.0_f64, 0.0, 0.0);
+            let h = 1e-6;
+            let e0 = ne(0.0) * f.spring_energy(z, ms, mk);
+            let mut t = 0.0;
+            let mut reached = false;
+            for _ in 0..2_000_000 {
+                // midpoint rule for the integrals and for z
+                let tm = t + 0.5 * h;
+                let zm = z + 0.5 * h * f.creep_rate(v_t(t), z);
+                let (v, n) = (v_t(tm), normal(tm));
+                work += h * f.coefficient(v, zm, ms, mk) * n * v;
+                loss += h * f.dissipated_power(v, zm, ms, mk, n, ne(tm), ne_rate(tm));
+                z += h * f.creep_rate(v, zm);
+                z = z.clamp(-f.creep_cap(), f.creep_cap());
+                reached |= z.abs() >= 0.999 * f.creep_cap();
+                t += h;
+            }
+            assert!(reached, "{law:?}: the history reaches the cap");
+            let stored = ne(t) * f.spring_energy(z, ms, mk) - e0;
+            let gap = work - loss - stored;
+            println!(
+                "{law:?}: work {work:.6e}, loss {loss:.6e}, stored {stored:.3e}, gap {gap:.1e}"
+            );
+            assert!(loss > 0.0);
+            // midpoint rule at h = 1e-6 over 2 s: error ~1e-6 of the work
+            assert!(gap.abs() < 1e-5 * work.abs(), "{law:?}: {gap}");
         }
     }
 
