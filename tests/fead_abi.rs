@@ -81,7 +81,11 @@ fn refused_naming(i: &Instance, status: i32, parameter: &str) {
     let log = i.log.borrow();
     assert!(
         log.iter()
-            .any(|(s, _, m)| *s == ERROR && m.contains(&format!("{parameter}:"))),
+            // `name: message` or `name must be ...` (src/fmu/names.rs,
+            // render_error): the parameter is the subject, not only mentioned
+            .any(|(s, _, m)| *s == ERROR
+                && (m.contains(&format!("{parameter}:"))
+                    || m.contains(&format!("{parameter} must be")))),
         "no error naming {parameter}: {log:?}"
     );
 }
