@@ -13,11 +13,15 @@
 
 use std::path::Path;
 
-use belt_drive::belt::params::{Method, PulleyParams};
+use belt_drive::belt::params::Method;
 use belt_drive::belt::{Drive, DriveParams};
 use belt_drive::fmi::FmuModel;
 use belt_drive::fmu::variables::{by_name, VarType};
 use belt_drive::fmu::BeltDrive;
+
+#[path = "common/two_to_one.rs"]
+mod drives;
+use drives::two_to_one;
 
 /// A drive of the study: its parameters, the averaging window and the meshes.
 struct Study {
@@ -27,25 +31,6 @@ struct Study {
     meshes: Vec<usize>,
     /// Pulleys whose speed loss against pulley 1 is reported.
     report: Vec<usize>,
-}
-
-/// The 2:1 drive: 40 mm pulley speed-driven at -40 rad/s (0.1 s ramp), 80 mm
-/// pulley loaded by a viscous 30 N m at its speed; 5PK belt, 500 N preload.
-fn two_to_one() -> DriveParams {
-    let mut p = DriveParams::kubas_section4();
-    p.belt.preload = 500.0;
-    let mut p1 = PulleyParams::paper_5pk(0.0, 0.0);
-    p1.radius = 0.04;
-    p1.speed_driven = true;
-    p1.omega_ramp = -40.0;
-    p1.ramp_time = 0.1;
-    let mut p2 = PulleyParams::paper_5pk(0.3, 0.0);
-    p2.radius = 0.08;
-    p2.inertia = 2e-3;
-    p2.load_damping = 30.0 / 20.0;
-    p2.ramp_time = 0.1;
-    p.pulleys = vec![p1, p2];
-    p
 }
 
 /// The parameters of an .ssv file set through the FMU's own variables.

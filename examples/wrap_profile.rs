@@ -12,6 +12,10 @@ use belt_drive::belt::model::{Recorder, Workspace, BODY_DOF};
 use belt_drive::belt::params::{Method, PulleyParams};
 use belt_drive::belt::{Drive, DriveParams};
 
+#[path = "common/two_to_one.rs"]
+mod drives;
+use drives::two_to_one;
+
 #[derive(Default)]
 struct Snap {
     /// (body, pulley, N, f, v_T)
@@ -30,23 +34,6 @@ impl Recorder for Snap {
             self.contacts.push((body, pulley, n, f, v_t));
         }
     }
-}
-
-fn two_to_one() -> DriveParams {
-    let mut p = DriveParams::kubas_section4();
-    p.belt.preload = 500.0;
-    let mut p1 = PulleyParams::paper_5pk(0.0, 0.0);
-    p1.radius = 0.04;
-    p1.speed_driven = true;
-    p1.omega_ramp = -40.0;
-    p1.ramp_time = 0.1;
-    let mut p2 = PulleyParams::paper_5pk(0.3, 0.0);
-    p2.radius = 0.08;
-    p2.inertia = 2e-3;
-    p2.load_damping = 30.0 / 20.0;
-    p2.ramp_time = 0.1;
-    p.pulleys = vec![p1, p2];
-    p
 }
 
 fn main() {

@@ -7,28 +7,19 @@
 //! Run with `cargo test --profile ci --test mesh` (about two minutes on
 //! one core: the stiff method at relTol 1e-5, as in the study).
 
-use belt_drive::belt::params::{Method, PulleyParams};
+use belt_drive::belt::params::Method;
 use belt_drive::belt::{Drive, DriveParams};
+
+#[path = "../examples/common/two_to_one.rs"]
+mod drives;
 
 /// The 2:1 drive of the mesh study: 40 mm pulley speed-driven at -40 rad/s
 /// (0.1 s ramp), 80 mm pulley 0.3 m away loaded by 1.5 N m s/rad (30 N m at
 /// speed); 5PK belt at 500 N.
 fn two_to_one(n_bodies: usize) -> DriveParams {
-    let mut p = DriveParams::kubas_section4();
-    p.belt.preload = 500.0;
+    let mut p = drives::two_to_one();
     p.belt.n_bodies = n_bodies;
     p.probe_body = 0;
-    let mut p1 = PulleyParams::paper_5pk(0.0, 0.0);
-    p1.radius = 0.04;
-    p1.speed_driven = true;
-    p1.omega_ramp = -40.0;
-    p1.ramp_time = 0.1;
-    let mut p2 = PulleyParams::paper_5pk(0.3, 0.0);
-    p2.radius = 0.08;
-    p2.inertia = 2e-3;
-    p2.load_damping = 30.0 / 20.0;
-    p2.ramp_time = 0.1;
-    p.pulleys = vec![p1, p2];
     p
 }
 
