@@ -192,7 +192,11 @@ fn running_floquet(p: &DriveParams) -> (Modes, f64, f64) {
          belt speed {:.3} m/s at t = {:.4} s",
         t0.elapsed().as_secs_f64(),
         orbit.period,
-        orbit.defects.iter().map(|d| format!("{d:.2e}")).collect::<Vec<_>>(),
+        orbit
+            .defects
+            .iter()
+            .map(|d| format!("{d:.2e}"))
+            .collect::<Vec<_>>(),
         orbit.span_tension,
         orbit.belt_speed,
         orbit.time
@@ -293,7 +297,12 @@ fn running_modes_do_not_depend_on_the_integrator() {
         );
     }
     let diff = f[0] / f[1] - 1.0;
-    eprintln!("f1: RKF45 {:.3} Hz, stiff {:.3} Hz ({:+.2} %)", f[0], f[1], 100.0 * diff);
+    eprintln!(
+        "f1: RKF45 {:.3} Hz, stiff {:.3} Hz ({:+.2} %)",
+        f[0],
+        f[1],
+        100.0 * diff
+    );
     assert!(diff.abs() < 0.02, "{diff:+.4}");
 }
 
