@@ -2,6 +2,7 @@
 //! This is the whole interface the FMI adapter uses.
 
 use super::elements::contact::{smoothstep, AUTO_P_MAX_PER_PENETRATION};
+use super::elements::friction::Law;
 use super::iteration_matrix::IterationMatrix;
 use super::jacobian::Jacobian;
 use super::layout::Layout;
@@ -70,7 +71,7 @@ impl StiffSystem for BeltSystem {
     /// Body angles and spins carry only the damped artificial modes: weight
     /// 1e-3 (not left out altogether, so a step that goes unstable in them is
     /// still rejected). The body velocities' weight is the friction law's
-    /// (`Friction::velocity_error_weight`).
+    /// (`friction::Law::velocity_error_weight`).
     fn error_mask(&self, rel_tol: f64, mask: &mut [f64]) {
         const ANGLES: f64 = TUNING.weight_angles;
         mask.fill(1.0);

@@ -28,6 +28,7 @@
 //! reason: it books the work the drives do with that linearisation too.
 
 use super::elements::contact;
+use super::elements::friction::{with_law, Law};
 use super::elements::sde::{self, BodyEnd};
 use super::model::{BeltSystem, BODY_DOF};
 use super::params::MAX_PULLEYS;
@@ -502,13 +503,14 @@ impl BeltSystem {
             isa,
             (self, y, jac),
             #[inline(always)]
-            |(sys, y, jac)| sys.jacobian_impl(t, y, jac),
+            // compiled for the drive's friction law
+            |(sys, y, jac)| with_law!(sys.friction, law => sys.jacobian_impl(&law, t, y, jac)),
         );
     }
 
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // indices run over several parallel arrays
-    fn jacobian_impl(&self, t: f64, y: &[f64], jac: &mut Jacobian) {
+    fn jacobian_impl(&self, friction: &impl Law, t: f64, y: &[f64], jac: &mut Jacobian) {
         let n = self.n;
         let np = self.np;
         let hl = self.half_length;
@@ -607,11 +609,10 @@ impl BeltSystem {
                     &kin,
                     v,
                     normal,
-                    self.friction
-                        .coefficient_jac(kin.v_t, z, pc.mu_s * zf, pc.mu_k * zf),
+                    friction.coefficient_jac(kin.v_t, z, pc.mu_s * zf, pc.mu_k * zf),
                     pc.lever,
                 );
-                let creeping = self.friction.creep_rate_slope(kin.v_t, z) != 0.0;
+                let creeping = friction.creep_rate_slope(kin.v_t, z) != 0.0;
                 if pc.arm.is_some() {
                     // The contact force F(x - c(alpha), v - c'(alpha) alpha')
                     // on the body and its reaction -F on the hub, whose
