@@ -21,7 +21,10 @@
 //! Everything the analysis needs from the core goes through [`adapter`].
 
 pub mod adapter;
+pub mod floquet;
 pub mod params;
+
+pub use floquet::{floquet, Orbit, FLOQUET_SUBSTEPS, FLOQUET_THETA};
 
 use adapter::Linearisation;
 use faer::linalg::solvers::Eigen;
@@ -134,6 +137,8 @@ pub struct Modes {
     pub reduced_dim: usize,
     /// Bodies passing a point per second (transport), 0 at rest.
     pub body_rate: f64,
+    /// The periodic running state of a Floquet analysis ([`floquet`]).
+    pub orbit: Option<Orbit>,
 }
 
 /// Where a body is: on pulley j's wrap or on span k (0-based).
@@ -535,193 +540,4 @@ pub fn body_rate(lin: &Linearisation) -> f64 {
         dir += v[0] * d[0] + v[1] * d[1];
     }
     dir.signum() * speed / pitch
-}
-
-/// Implicitness of the theta method that integrates the variational
-/// equations in [`floquet`]: 0.6. At 1/2 (the trapezoidal rule) the bodies'
-/// fast artificial modes (pitching at ~1e5 rad/s, omega h >> 1) keep
-/// multipliers of modulus ~1 at arbitrary angles and mix into the
-/// eigenvectors of the slow modes; at 0.6 each step damps them by 2/3
-/// (1e-11 over 64 steps) while a mode of frequency f gains only the
-/// numerical damping ratio (theta - 1/2) 2 pi f h (2e-4 at 14 Hz, 1.3e-2 at
-/// 1 kHz with h = 21 us) and a phase error of order (2 pi f h)^2.
-pub const FLOQUET_THETA: f64 = 0.6;
-
-/// Substeps per body-passing period in [`floquet`] by default.
-pub const FLOQUET_SUBSTEPS: usize = 64;
-
-/// Floquet analysis of steady running (docs/modes.md, "Steady running").
-///
-/// A running discrete belt is not at an equilibrium: its bodies move through
-/// the spans and wraps, and the state repeats, shifted by one body, after the
-/// body-passing period P = l / v. Over one P this integrates the variational
-/// equations Phi' = J(t) Phi along the drive's own trajectory (the analytic
-/// Jacobian at `substeps` + 1 instants, the theta method
-/// ([`FLOQUET_THETA`]) between them), then composes the monodromy matrix with the one-body index shift. Its
-/// eigenvalues are the Floquet multipliers mu = exp(lambda P): damping from
-/// |mu|, frequency from arg(mu) modulo 1/P. The branch (how many whole turns
-/// the mode makes within P) is counted by following the mode's phase, v^H
-/// Phi(t) v, through 8 instants of the period (unambiguous below 4/P). Each
-/// mode is described by its eigenvector at the start of the period.
-///
-/// `drive` is advanced by one period. Errors: a drive at rest (no period),
-/// a failed run, a failed eigen-solve.
-pub fn floquet(
-    drive: &mut crate::belt::Drive,
-    opts: &Options,
-    substeps: usize,
-) -> Result<Modes, String> {
-    const SAMPLES: usize = 8;
-    let substeps = substeps.div_ceil(SAMPLES).max(1) * SAMPLES;
-    let lin0 = adapter::linearise(drive);
-    let rate = body_rate(&lin0);
-    if rate.is_nan() || rate.abs() <= 1.0 {
-        return Err("the belt is not running (under one body passing per second)".into());
-    }
-    let period = 1.0 / rate.abs();
-    let dim = lin0.dim;
-    let n = lin0.n;
-    let t0 = drive.time();
-    let h = period / substeps as f64;
-    let dense =
-        |lin: &Linearisation| Mat::<f64>::from_fn(dim, dim, |r, c| lin.jacobian[r * dim + c]);
-    let mut phi = Mat::<f64>::identity(dim, dim);
-    let mut j_prev = dense(&lin0);
-    let mut samples: Vec<Mat<f64>> = Vec::with_capacity(SAMPLES - 1);
-    for s in 1..=substeps {
-        adapter::run_to(drive, t0 + s as f64 * h)?;
-        let j_next = dense(&adapter::linearise(drive));
-        // (I - theta h J_{k+1}) Phi_{k+1} = (I + (1 - theta) h J_k) Phi_k
-        let theta = FLOQUET_THETA;
-        let mut rhs = &j_prev * &phi;
-        rhs *= faer::Scale((1.0 - theta) * h);
-        rhs += &phi;
-        let mut a = j_next.clone();
-        a *= faer::Scale(-theta * h);
-        for d in 0..dim {
-            a[(d, d)] += 1.0;
-        }
-        use faer::linalg::solvers::Solve;
-        a.partial_piv_lu().solve_in_place(&mut rhs);
-        if !rhs.as_ref().is_all_finite() {
-            return Err("the variational equations diverged".into());
-        }
-        phi = rhs;
-        j_prev = j_next;
-        if s % (substeps / SAMPLES) == 0 && s < substeps {
-            samples.push(phi.clone());
-        }
-    }
-    // The body in slot i now sits where the body in slot i + dir sat at the
-    // start: its row of Phi is that place's.
-    let dir = if rate > 0.0 { 1 } else { n - 1 };
-    let mut mono = Mat::<f64>::zeros(dim, dim);
-    for r in 0..dim {
-        let to = if r < adapter::BODY_STATES * n {
-            let (i, k) = (r / adapter::BODY_STATES, r % adapter::BODY_STATES);
-            lin0.body((i + dir) % n, k)
-        } else {
-            r
-        };
-        for c in 0..dim {
-            mono[(to, c)] = phi[(r, c)];
-        }
-    }
-    let evd = Eigen::new_from_real(mono.as_ref())
-        .map_err(|e| format!("eigen-decomposition failed: {e:?}"))?;
-    let w_zero = TAU * opts.zero_frequency_hz;
-    let mut out = Modes {
-        reduced_dim: dim,
-        body_rate: rate.abs(),
-        ..Modes::default()
-    };
-    let regions = regions(&lin0);
-    let (s, u) = (evd.S(), evd.U());
-    // v^H Phi(t) v for every eigenvector v at every sampled instant (real
-    // products of the real and imaginary parts).
-    let (ure, uim) = (
-        Mat::<f64>::from_fn(dim, dim, |r, c| u[(r, c)].re),
-        Mat::<f64>::from_fn(dim, dim, |r, c| u[(r, c)].im),
-    );
-    let phase: Vec<Vec<faer::c64>> = samples
-        .iter()
-        .map(|ph| {
-            let (yre, yim) = (ph * &ure, ph * &uim);
-            (0..dim)
-                .map(|k| {
-                    let mut c = faer::c64::new(0.0, 0.0);
-                    for r in 0..dim {
-                        let y = faer::c64::new(yre[(r, k)], yim[(r, k)]);
-                        c += u[(r, k)].conj() * y;
-                    }
-                    c
-                })
-                .collect()
-        })
-        .collect();
-    drop(samples);
-    let mut vec = vec![faer::c64::new(0.0, 0.0); dim];
-    for k in 0..dim {
-        let mu = s[k];
-        let (r, theta) = (mu.re.hypot(mu.im), mu.im.atan2(mu.re));
-        if theta < 0.0 {
-            continue; // the conjugate of a pair counted below
-        }
-        let sigma = r.ln() / period; // Re(lambda); -inf for mu = 0
-        if theta == 0.0 || !sigma.is_finite() {
-            if sigma.is_finite() && sigma.abs() < w_zero {
-                out.zero_modes += 1;
-            } else {
-                out.overdamped += 1;
-            }
-            continue;
-        }
-        for (row, x) in vec.iter_mut().enumerate() {
-            *x = u[(row, k)];
-        }
-        // Phase of v^H Phi(t) v through the period, ending at mu |v|^2.
-        let norm2: f64 = vec.iter().map(|x| x.norm_sqr()).sum();
-        let mut prev = faer::c64::new(norm2, 0.0);
-        let mut turned = 0.0;
-        for m in phase
-            .iter()
-            .map(|p| p[k])
-            .chain(std::iter::once(mu * norm2))
-        {
-            turned += (m * prev.conj()).arg();
-            prev = m;
-        }
-        let turns = ((turned - theta) / TAU).round();
-        let f = (theta + TAU * turns) / (TAU * period);
-        let omega = TAU * f;
-        let mag = sigma.hypot(omega);
-        if mag < w_zero {
-            out.zero_modes += 1;
-            continue;
-        }
-        if mag / TAU > opts.max_frequency_hz {
-            out.above_limit += 1;
-            continue;
-        }
-        // Described without the bodies' spin: the theta method has damped
-        // the artificial pitching modes away (they end as overdamped), and
-        // in a running belt a slow mode's spin perturbation is dominated by
-        // the bodies at the wrap ends, whose spin jumps between 0 and v/r
-        // there, so a small shift of the entry point carries a large spin
-        // energy that is not pitching.
-        for i in 0..n {
-            vec[lin0.body(i, 5)] = faer::c64::new(0.0, 0.0);
-        }
-        let (part, share) = classify(&lin0, &regions, &vec, false);
-        out.modes.push(Mode {
-            frequency_hz: mag / TAU,
-            damping_ratio: -sigma / mag,
-            damped_hz: f.abs(),
-            part,
-            share,
-        });
-    }
-    out.modes
-        .sort_by(|a, b| a.frequency_hz.total_cmp(&b.frequency_hz));
-    Ok(out)
 }
