@@ -1118,11 +1118,11 @@ impl BeltSystem {
         )
     }
 
-    /// [`Self::contacts`] with the contact along the body (`contact.points`
-    /// > 1, [`contact::segment`]): the bodies whose centre lies within
-    /// r + l/2 of the pulley centre are tested point by point; the contact
-    /// moments on the bodies are added to `otq`. A scalar loop over the
-    /// bodies of the arc.
+    /// [`Self::contacts`] with the contact along the body (more than one
+    /// `contact.points`, [`contact::segment`]): the bodies whose centre
+    /// lies within reach of the pulley (`PulleyConst::reach`) are tested
+    /// point by point; the contact moments on the bodies are added to
+    /// `otq`. A scalar loop over the bodies of the block.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn contacts_along<R: Recorder>(
