@@ -4,7 +4,7 @@
 //! normal force law ([`ContactLaw`]) and the force with its partials
 //! ([`force_partials`]) live here and nowhere else.
 
-use super::friction::Friction;
+use super::friction::Law;
 use nalgebra::{Matrix2, Matrix2x3, RowVector2, RowVector3, Vector2};
 
 /// Smoothstep of eq. 10-11 on [0, 1]: 0 below, x^2 (3 - 2x) inside, 1 above.
@@ -446,7 +446,7 @@ pub struct Segment {
     pub penetration: f64,
     /// Friction power less the normal-force-weighted creep power,
     /// sum N (mu v_T - mu(0, z) dz/dt) (the friction's share of the belt
-    /// loss, before the clip at 0; see `Friction::slip_loss`).
+    /// loss, before the clip at 0; see `Law::slip_loss`).
     pub slip_power: f64,
 }
 
@@ -487,7 +487,7 @@ pub struct SegmentPartials {
 #[inline]
 pub fn segment(
     law: &ContactLaw,
-    fr: &Friction,
+    fr: &impl Law,
     points: usize,
     pulley: &PulleySide,
     body: &BodySide,
@@ -621,7 +621,7 @@ pub fn segment(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::belt::elements::friction::Friction;
+    use crate::belt::elements::friction::{Friction, Law};
     use crate::belt::params::FrictionLaw;
 
     /// 1 / p_max of the tests: a 0.1 mm ramp, so that the test points lie
