@@ -19,6 +19,7 @@
 //! law, a missed contact, a wrong sign or lever) is many orders of
 //! magnitude larger than either.
 
+use belt_drive::belt::elements::friction::Law;
 use belt_drive::belt::elements::tensioner::FRICTION_RATE;
 use belt_drive::belt::model::{BeltSystem, Inputs, Recorder, Relaxation, Workspace, BODY_DOF};
 use belt_drive::belt::params::{PulleyParams, MAX_PULLEYS};

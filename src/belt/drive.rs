@@ -2,6 +2,7 @@
 //! This is the whole interface the FMI adapter uses.
 
 use super::elements::contact::{smoothstep, AUTO_P_MAX_PER_PENETRATION};
+use super::elements::friction::Law;
 use super::iteration_matrix::IterationMatrix;
 use super::jacobian::Jacobian;
 use super::layout::Layout;
@@ -47,6 +48,14 @@ impl StiffSystem for BeltSystem {
     fn jacobian(&self, t: f64, y: &[f64], jac: &mut Jacobian) {
         BeltSystem::jacobian(self, t, y, jac);
     }
+    /// The input energy's row: the prescribed speeds and applied torques at
+    /// the step's start, so that over a step at constant inputs the input
+    /// energy grows by exactly their work on the drive-torque impulses and
+    /// pulley angles (a Jacobian kept from before a ramp's end or an input
+    /// change would book it with the old speed or torque).
+    fn step_rows(&self, t: f64, jac: &mut Jacobian) {
+        jac.set_power_row(self, t);
+    }
     fn factor(&self, jac: &Jacobian, c: f64, m: &mut IterationMatrix) -> bool {
         m.factor(self, jac, c)
     }
@@ -62,7 +71,7 @@ impl StiffSystem for BeltSystem {
     /// Body angles and spins carry only the damped artificial modes: weight
     /// 1e-3 (not left out altogether, so a step that goes unstable in them is
     /// still rejected). The body velocities' weight is the friction law's
-    /// (`Friction::velocity_error_weight`).
+    /// (`friction::Law::velocity_error_weight`).
     fn error_mask(&self, rel_tol: f64, mask: &mut [f64]) {
         const ANGLES: f64 = TUNING.weight_angles;
         mask.fill(1.0);

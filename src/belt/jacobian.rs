@@ -28,6 +28,7 @@
 //! reason: it books the work the drives do with that linearisation too.
 
 use super::elements::contact;
+use super::elements::friction::{with_law, Law};
 use super::elements::sde::{self, BodyEnd};
 use super::model::{BeltSystem, BODY_DOF};
 use super::params::MAX_PULLEYS;
@@ -358,6 +359,22 @@ impl Jacobian {
         (out, power)
     }
 
+    /// The input power's row at time `t` (`power_speed`, `power_applied`):
+    /// input power (applied + drive) omega is the drive torque's row times a
+    /// prescribed speed plus the applied torque times a state speed. They
+    /// depend on the time only, so the stiff method sets them at the start
+    /// of every step (`StiffSystem::step_rows`), also in a kept Jacobian.
+    pub fn set_power_row(&mut self, sys: &BeltSystem, t: f64) {
+        for j in 0..sys.np {
+            self.power_speed[j] = if sys.pulleys[j].speed_driven {
+                sys.prescribed_speed(j, t).0
+            } else {
+                0.0
+            };
+            self.power_applied[j] = sys.applied_torque(j, t);
+        }
+    }
+
     /// Appends the stored numbers to `out`.
     pub fn save(&self, out: &mut Vec<f64>) {
         let mut copy = self.clone();
@@ -486,13 +503,14 @@ impl BeltSystem {
             isa,
             (self, y, jac),
             #[inline(always)]
-            |(sys, y, jac)| sys.jacobian_impl(t, y, jac),
+            // compiled for the drive's friction law
+            |(sys, y, jac)| with_law!(sys.friction, law => sys.jacobian_impl(&law, t, y, jac)),
         );
     }
 
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // indices run over several parallel arrays
-    fn jacobian_impl(&self, t: f64, y: &[f64], jac: &mut Jacobian) {
+    fn jacobian_impl(&self, friction: &impl Law, t: f64, y: &[f64], jac: &mut Jacobian) {
         let n = self.n;
         let np = self.np;
         let hl = self.half_length;
@@ -519,10 +537,6 @@ impl BeltSystem {
             centre[j] = [c[0], c[1], vc[0], vc[1]];
             jac.arm[j] = ArmJacobian::default();
             let pc = &self.pulleys[j];
-            // input power (applied + drive) omega: the drive torque's row
-            // times a prescribed speed, the applied torque times a state speed
-            jac.power_speed[j] = if pc.speed_driven { omega_p[j] } else { 0.0 };
-            jac.power_applied[j] = self.applied_torque(j, t);
             if let Some(arm) = &pc.arm {
                 let (a, w) = (y[pc.arm_offset], y[pc.arm_offset + 1]);
                 let dc = arm.centre(a).1;
@@ -536,6 +550,7 @@ impl BeltSystem {
                 };
             }
         }
+        jac.set_power_row(self, t);
         let with_arms = self.n_arms > 0;
 
         // Contact and friction of each body (eq. 4-19): forces act at the
@@ -594,11 +609,10 @@ impl BeltSystem {
                     &kin,
                     v,
                     normal,
-                    self.friction
-                        .coefficient_jac(kin.v_t, z, pc.mu_s * zf, pc.mu_k * zf),
+                    friction.coefficient_jac(kin.v_t, z, pc.mu_s * zf, pc.mu_k * zf),
                     pc.lever,
                 );
-                let creeping = self.friction.creep_rate_slope(kin.v_t, z) != 0.0;
+                let creeping = friction.creep_rate_slope(kin.v_t, z) != 0.0;
                 if pc.arm.is_some() {
                     // The contact force F(x - c(alpha), v - c'(alpha) alpha')
                     // on the body and its reaction -F on the hub, whose

@@ -17,13 +17,13 @@
 
 use super::elements::contact::{self, ContactLaw};
 use super::elements::decoupler::Decoupler;
-use super::elements::friction::Friction;
+use super::elements::friction::{with_law, Friction, Law};
 use super::elements::groove::friction_factor;
 pub use super::elements::pulley::PulleyConst;
 use super::elements::sde::{self, AxialSde, BodyEnd, TorsionalSde};
 use super::elements::tensioner::Arm;
 use super::layout::Layout;
-use super::params::{DriveParams, FrictionLaw, MAX_PULLEYS};
+use super::params::{DriveParams, MAX_PULLEYS};
 use super::simd::{self, Isa};
 use super::solver_params::TUNING;
 use super::trig;
@@ -968,19 +968,13 @@ impl BeltSystem {
             b.ofy[j] = -weight;
             b.dz[j] = 0.0;
         }
-        let fr = self.friction;
         for (q, pc) in pulleys[..self.np].iter().enumerate() {
             let surface = omega_p[q] * pc.lever;
             let c = &centre[q];
-            let (torque, diss, on_bodies) = if fr.law == FrictionLaw::Creep {
-                self.contacts(b, i0, len, q, pc, c, surface, rec, move |v, z, ms, mk| {
-                    fr.creep_coefficient(v, z, ms, mk)
-                })
-            } else {
-                self.contacts(b, i0, len, q, pc, c, surface, rec, move |v, z, ms, mk| {
-                    fr.kubas_coefficient(v, z, ms, mk)
-                })
-            };
+            // the contact loop compiled for the drive's friction law
+            let (torque, diss, on_bodies) = with_law!(self.friction, law => {
+                self.contacts(b, i0, len, q, pc, c, surface, rec, &law)
+            });
             belt_torque[q] -= torque; // eq. 24
             p_diss += diss;
             // the hub carries the reaction of the contact forces on the bodies
@@ -1004,8 +998,8 @@ impl BeltSystem {
 
     /// Contact and friction forces (eq. 4-19) of bodies 0..len of a block
     /// with pulley `q` (centre and its velocity `centre` = [x, y, vx, vy],
-    /// surface speed `surface`), friction coefficient `mu(v_T, z, mu_s,
-    /// mu_k)`: added to the bodies' own forces and creep rates. Returns the
+    /// surface speed `surface`), friction law `friction`: added to the
+    /// bodies' own forces and creep rates. Returns the
     /// moment r f about the pulley's axis summed over the contacts, their
     /// power, and the sum of the contact forces on the bodies.
     #[allow(clippy::too_many_arguments)]
@@ -1020,7 +1014,7 @@ impl BeltSystem {
         centre: &[f64; 4],
         surface: f64,
         rec: &mut R,
-        mu: impl Fn(f64, f64, f64, f64) -> f64,
+        friction: &impl Law,
     ) -> (f64, f64, [f64; 2]) {
         let (cx, cy) = (centre[0], centre[1]);
         // the bodies lo..hi span every body inside the circle (usually one
@@ -1045,7 +1039,7 @@ impl BeltSystem {
             pc,
             centre,
             surface,
-            &mu,
+            friction,
             hi - lo,
             [
                 &b.x[lo + 1..=end],
@@ -1109,7 +1103,7 @@ impl BeltSystem {
 
     /// Energy stored in the creep springs of every contact of state `y`:
     /// the elastic normal force times the spring energy per newton
-    /// (elements::friction, `Friction::spring_energy`). Part of the
+    /// (elements::friction, `Law::spring_energy`). Part of the
     /// potential energy; the integrated friction work less it is what
     /// friction has dissipated.
     pub fn creep_spring_energy(&self, y: &[f64]) -> f64 {
@@ -1195,7 +1189,7 @@ impl BeltSystem {
 }
 
 /// Contact and friction (eq. 4-19) of a run of bodies with pulley `pc`
-/// (surface speed `surface`, friction coefficient `mu(v_T, z, mu_s, mu_k)`).
+/// (surface speed `surface`, friction law `friction`).
 /// `body` holds the columns x, y, vx, vy, z and friction zone factor of the
 /// run (the first `valid` bodies, then padding that is ignored); the
 /// contact forces and creep rates are added to `ofx`, `ofy`, `dz`, the
@@ -1211,7 +1205,7 @@ fn contact_arc(
     pc: &PulleyConst,
     centre: &[f64; 4],
     surface: f64,
-    mu: &impl Fn(f64, f64, f64, f64) -> f64,
+    friction: &impl Law,
     valid: usize,
     body: [&[f64]; 6],
     ofx: &mut [f64],
@@ -1251,7 +1245,7 @@ fn contact_arc(
     // the centre and its velocity: the contact sees the body's motion
     // relative to it (a tensioner's pulley moves with its arm)
     let [cx, cy, cvx, cvy] = *centre;
-    let (law, friction) = (sys.contact, sys.friction);
+    let law = sys.contact;
     for i in 0..k {
         let z = zs[i];
         let kin = contact::kinematics(
@@ -1262,7 +1256,7 @@ fn contact_arc(
         );
         let (normal, elastic) = law.normal_force(kin.p, kin.p_dot, inv_p_max);
         let zf = zfs[i];
-        let f = mu(kin.v_t, z, mu_s * zf, mu_k * zf) * normal; // eq. 19, along +tau
+        let f = friction.coefficient(kin.v_t, z, mu_s * zf, mu_k * zf) * normal; // eq. 19, along +tau
         let [fx, fy] = contact::force(&kin, normal, f);
         let inside = (kin.d2 < radius2) & (i < valid);
         let keep = |v: f64| if inside { v } else { 0.0 };

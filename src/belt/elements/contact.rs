@@ -276,7 +276,7 @@ pub fn force_partials(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::belt::elements::friction::Friction;
+    use crate::belt::elements::friction::{Friction, Law};
     use crate::belt::params::FrictionLaw;
 
     /// 1 / p_max of the tests: a 0.1 mm ramp, so that the test points lie
