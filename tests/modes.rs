@@ -220,9 +220,9 @@ fn running_floquet(p: &DriveParams) -> (Modes, Vec<f64>, f64) {
 /// (sorted: the labels of running modes are not reliable, docs/modes.md).
 /// Tolerance 5 % (the figure): the 2 % of the discrete boundary (at
 /// rest, above) and the tension's body-passing ripple (the law takes each
-/// span's mid-element tension at the start of the period). Measured: 14.305
-/// and 14.489 Hz against 14.64 and 14.97 Hz (-2.3 %, -3.2 %; T = 112.2 and
-/// 115.3 N, v = 6.99 m/s).
+/// span's mid-element tension at the start of the period). Measured: 14.299
+/// and 14.399 Hz against 14.68 and 15.00 Hz (-2.6 %, -4.0 %; T = 112.5 and
+/// 115.6 N, v = 6.99 m/s).
 ///
 /// The analysis must also leave no oscillating mode below 0.8 f_1: the
 /// frozen-time analysis gave spurious slow modes there (0.6 Hz) from the
@@ -280,10 +280,8 @@ fn running_span_mode_is_the_axially_moving_strings() {
 /// (solver.method 1 and 2), then analysed by the Floquet analysis, which
 /// settles each run onto its periodic orbit with the same method at relTol
 /// 1e-6 before linearising: the two lowest modes (both spans' f_1) within
-/// 1 %. Measured: 14.295 / 14.305 Hz (-0.07 %) and 14.419 / 14.489 Hz
-/// (-0.48 %), orbits periodic within 7.1e-4 and 5.1e-4. (Without the
-/// settling, along the relTol 1e-4 run-ups, whose defects are 8.0e-2 and
-/// 3.4e-2, the lowest modes were 14.634 / 14.507 Hz, +0.88 %.) The bound
+/// 1 %. Measured: 14.295 / 14.299 Hz (-0.03 %) and 14.419 / 14.399 Hz
+/// (+0.14 %), orbits periodic within 7.1e-4 and 1.2e-3. The bound
 /// covers the instant along the orbit at which each analysed period starts
 /// (the body-passing phase differs between the runs; the Jacobian is
 /// sampled at 64 instants of it).
