@@ -148,3 +148,68 @@ fn kubas2014_law_same_steady_state_as_rkf45() {
     let (s1, s0) = (slip(&stiff), slip(&reference));
     assert!((s1 - s0).abs() < 0.02 * s0, "slip {s1} vs {s0}");
 }
+
+/// The input energy (`energy.input`) grows over each communication step by
+/// the inputs' work, for both methods to round-off: with the crank at a
+/// constant prescribed speed omega_1 and a constant applied torque M_2 on
+/// the torque-driven pulley, by omega_1 times the crank's drive-torque
+/// impulse (meanDriveTorque times the step) plus M_2 times the pulley's
+/// angle change. The stiff method integrates the input power with its own
+/// Jacobian row (the drive torque's row times the prescribed speed, the
+/// applied torque on the pulley's speed), so the identity holds only if
+/// that row carries the speed and torque in effect during the step. The
+/// drive is the heavy belt of tests/python/test_mean_forces.py (crank
+/// r = 60 mm ramped to 150 rad/s over 0.1 s, a 27 mm pulley 0.35 m away,
+/// 0.3 kg/m, 120 bodies) with a 2 N m torque on the driven pulley, changed
+/// through its input at every 5th communication point: a Jacobian kept from
+/// before the ramp's end booked the first step after it 1.0e-6 of the
+/// step's work off (the row held the speed of the ramp), one kept across an
+/// input change books the old torque. Round-off: the input energy is
+/// ~15 J against ~1 J per step and the angles ~15 rad, so 1e-9 of the
+/// step's work is ~1e4 times it.
+#[test]
+fn input_energy_is_the_inputs_work() {
+    for method in [Method::Rkf45, Method::Rosenbrock] {
+        let mut p = DriveParams::default();
+        p.belt.n_bodies = 120;
+        p.belt.mass_per_length = 0.3;
+        p.solver = with_method(p.clone(), method, 1e-4).solver;
+        let (crank, driven) = p.pulleys.split_at_mut(1);
+        crank[0].radius = 0.06;
+        crank[0].speed_driven = true;
+        crank[0].omega_ramp = -150.0;
+        crank[0].torque_ramp = 0.0;
+        crank[0].ramp_time = 0.1;
+        driven[0].x = 0.35;
+        driven[0].load_damping = 0.01;
+        driven[0].torque_ramp = 2.0;
+        driven[0].ramp_time = 0.1;
+        let mut d = belt_drive::belt::Drive::new(&p, 0.0).expect("valid drive");
+        let h = 1e-3;
+        d.advance(0.1).expect("runs up");
+        let mut before = d.outputs();
+        let mut worst: f64 = 0.0;
+        for k in 101..=130 {
+            if k % 5 == 0 {
+                let mut inputs = *d.inputs();
+                inputs.torque[1] = if k % 10 == 0 { 0.5 } else { -0.5 };
+                d.set_inputs(inputs);
+            }
+            d.advance(f64::from(k) * h).expect("runs");
+            let after = d.outputs();
+            let applied = 2.0 + d.inputs().torque[1];
+            let crank = after.pulleys[0].omega * after.pulleys[0].mean_drive_torque * h;
+            let load = applied * (after.pulleys[1].angle - before.pulleys[1].angle);
+            let gain = after.energy_input - before.energy_input;
+            let off = (gain - crank - load).abs() / (crank.abs() + load.abs());
+            worst = worst.max(off);
+            assert!(
+                off < 1e-9,
+                "{method:?}, step ending at {:.3} s: gain {gain} J, work {crank} + {load} J",
+                f64::from(k) * h
+            );
+            before = after;
+        }
+        println!("{method:?}: input energy against the inputs' work, worst {worst:.1e}");
+    }
+}

@@ -48,6 +48,14 @@ impl StiffSystem for BeltSystem {
     fn jacobian(&self, t: f64, y: &[f64], jac: &mut Jacobian) {
         BeltSystem::jacobian(self, t, y, jac);
     }
+    /// The input energy's row: the prescribed speeds and applied torques at
+    /// the step's start, so that over a step at constant inputs the input
+    /// energy grows by exactly their work on the drive-torque impulses and
+    /// pulley angles (a Jacobian kept from before a ramp's end or an input
+    /// change would book it with the old speed or torque).
+    fn step_rows(&self, t: f64, jac: &mut Jacobian) {
+        jac.set_power_row(self, t);
+    }
     fn factor(&self, jac: &Jacobian, c: f64, m: &mut IterationMatrix) -> bool {
         m.factor(self, jac, c)
     }

@@ -359,6 +359,22 @@ impl Jacobian {
         (out, power)
     }
 
+    /// The input power's row at time `t` (`power_speed`, `power_applied`):
+    /// input power (applied + drive) omega is the drive torque's row times a
+    /// prescribed speed plus the applied torque times a state speed. They
+    /// depend on the time only, so the stiff method sets them at the start
+    /// of every step (`StiffSystem::step_rows`), also in a kept Jacobian.
+    pub fn set_power_row(&mut self, sys: &BeltSystem, t: f64) {
+        for j in 0..sys.np {
+            self.power_speed[j] = if sys.pulleys[j].speed_driven {
+                sys.prescribed_speed(j, t).0
+            } else {
+                0.0
+            };
+            self.power_applied[j] = sys.applied_torque(j, t);
+        }
+    }
+
     /// Appends the stored numbers to `out`.
     pub fn save(&self, out: &mut Vec<f64>) {
         let mut copy = self.clone();
@@ -527,10 +543,6 @@ impl BeltSystem {
             centre[j] = [c[0], c[1], vc[0], vc[1]];
             jac.arm[j] = ArmJacobian::default();
             let pc = &self.pulleys[j];
-            // input power (applied + drive) omega: the drive torque's row
-            // times a prescribed speed, the applied torque times a state speed
-            jac.power_speed[j] = if pc.speed_driven { omega_p[j] } else { 0.0 };
-            jac.power_applied[j] = self.applied_torque(j, t);
             if let Some(arm) = &pc.arm {
                 let (a, w) = (y[pc.arm_offset], y[pc.arm_offset + 1]);
                 let dc = arm.centre(a).1;
@@ -544,6 +556,7 @@ impl BeltSystem {
                 };
             }
         }
+        jac.set_power_row(self, t);
         let with_arms = self.n_arms > 0;
 
         // Contact and friction of each body (eq. 4-19): forces act at the

@@ -33,6 +33,12 @@ pub trait StiffSystem: OdeSystem {
     fn new_matrix(&self) -> Self::Matrix;
     /// Evaluates the Jacobian at (t, y).
     fn jacobian(&self, t: f64, y: &[f64], jac: &mut Self::Jacobian);
+    /// Sets the entries of a kept Jacobian that depend on the time alone
+    /// (the inputs) to their values at the start `t` of the step about to
+    /// be tried; called before every trial step. Entries outside the
+    /// factored matrix only (rows nothing depends on): the factorization
+    /// stays valid.
+    fn step_rows(&self, _t: f64, _jac: &mut Self::Jacobian) {}
     /// Factors `I - c J`; false if it is singular.
     fn factor(&self, jac: &Self::Jacobian, c: f64, m: &mut Self::Matrix) -> bool;
     /// Overwrites `b` with the solution x of `(I - c J) x = b`.
@@ -298,6 +304,7 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
             self.jac_age = Some(0);
             self.factored_c = None;
         }
+        sys.step_rows(t, &mut self.jac);
         let c = h * GAMMA;
         if self.factored_c != Some(c) {
             self.factorizations += 1;
