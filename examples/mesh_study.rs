@@ -9,7 +9,8 @@
 //! of the two finest meshes (second order: the excess falls as n^-2).
 //!
 //! `cargo run --profile ci --example mesh_study -- [drive 5pk|2to1|accessory|all]
-//! [method 1|2] [relTol] [bodies,...]`
+//! [method 1|2] [relTol] [bodies,...] [contact.points]` (the drive's own
+//! `contact.points` when not given or 0).
 
 use std::path::Path;
 
@@ -86,7 +87,9 @@ fn main() {
     let rtol: f64 = arg(2, "1e-5").parse().unwrap();
     let meshes: Option<Vec<usize>> = a
         .get(3)
+        .filter(|s| *s != "-")
         .map(|s| s.split(',').map(|x| x.parse().unwrap()).collect());
+    let points: usize = arg(4, "0").parse().unwrap();
 
     let mut studies = vec![
         Study {
@@ -126,14 +129,17 @@ fn main() {
         p.solver.rel_tol = rtol;
         p.solver.abs_tol = rtol * 1e-2;
         p.solver.max_steps = u64::MAX;
+        if points > 0 {
+            p.contact.points = points;
+        }
         let r_min = p
             .pulleys
             .iter()
             .map(|q| q.radius)
             .fold(f64::INFINITY, f64::min);
         println!(
-            "## {} (method {method}, relTol {rtol:e}, window {}-{} s)",
-            s.name, s.window.0, s.window.1
+            "## {} (method {method}, relTol {rtol:e}, contact.points {}, window {}-{} s)",
+            s.name, p.contact.points, s.window.0, s.window.1
         );
         println!("| bodies | l / r_min | speed loss vs pulley 1 [%] | span tensions [N] | steps | wall [s] |");
         println!("|---|---|---|---|---|---|");

@@ -30,14 +30,18 @@ fn rhs_and_steps_do_not_allocate() {
     // factorizations and stage solves
     // (and with a grooved pulley and a decoupler on the driven one, which
     // also sits on a tensioner arm)
-    for (method, fead) in [
-        (Method::Rkf45, false),
-        (Method::Rosenbrock, false),
-        (Method::Rkf45, true),
-        (Method::Rosenbrock, true),
+    // (and with the contact along the body, 1 and 3 contact points)
+    for (method, fead, points) in [
+        (Method::Rkf45, false, 1),
+        (Method::Rosenbrock, false, 1),
+        (Method::Rkf45, true, 1),
+        (Method::Rosenbrock, true, 1),
+        (Method::Rkf45, false, 3),
+        (Method::Rosenbrock, true, 3),
     ] {
         let mut p = DriveParams::kubas_section4();
         p.solver.method = method;
+        p.contact.points = points;
         if fead {
             p.pulleys[0].groove_angle = 0.7;
             p.pulleys[1].decoupler = true;
@@ -60,13 +64,13 @@ fn rhs_and_steps_do_not_allocate() {
         let after = ALLOCS.load(Ordering::Relaxed);
         assert!(
             d.stats().steps > steps + 20,
-            "{method:?} {fead}: {:?}",
+            "{method:?} {fead} {points}: {:?}",
             d.stats()
         );
         assert_eq!(
             after - before,
             0,
-            "{method:?} {fead}: allocations on the hot path"
+            "{method:?} {fead} {points}: allocations on the hot path"
         );
     }
 }

@@ -42,7 +42,7 @@ fn ref_wrap_angle(a: f64) -> f64 {
 #[allow(clippy::needless_range_loop, clippy::too_many_arguments)] // kept as first written
 fn reference_rhs<R: Recorder>(
     s: &BeltSystem,
-    lever: &[f64],
+    lever: &[(f64, f64)],
     t: f64,
     y: &[f64],
     dy: &mut [f64],
@@ -116,9 +116,101 @@ fn reference_rhs<R: Recorder>(
         let (mut fx, mut fy) = (0.0, -weight);
         mag[o + 4] = weight;
         let mut dz = 0.0;
+        let mut moment = 0.0;
         for j in 0..np {
             let pc = &s.pulleys()[j];
             let [cx, cy, cvx, cvy] = centre[j];
+            if s.contact_points() > 1 {
+                // Contact along the body: the penalty law per unit length
+                // integrated by Gauss-Legendre points (nodes xi of [-1, 1],
+                // weights halved); the point at s = xi l/2 against the circle
+                // sqrt(r^2 + s^2) (where it lies when the body is tangent to
+                // the pulley at its centre), its friction lever the centre's
+                // times sqrt(1 + s^2 / rho^2), rho = r - p0; one creep rate
+                // per body from the elastic-force-weighted sliding velocity.
+                let (nodes, weights): (&[f64], &[f64]) = match s.contact_points() {
+                    2 => (
+                        &[-1.0 / 3f64.sqrt(), 1.0 / 3f64.sqrt()][..],
+                        &[1.0, 1.0][..],
+                    ),
+                    3 => (
+                        &[-(0.6f64).sqrt(), 0.0, (0.6f64).sqrt()][..],
+                        &[5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0][..],
+                    ),
+                    k => panic!("reference has no {k}-point rule"),
+                };
+                let (sn, cs) = y[o + 2].sin_cos();
+                let w_body = y[o + 5];
+                let (mut e_sum, mut ev_sum, mut v_sum, mut inside) = (0.0, 0.0, 0.0, 0);
+                let (mut n_sum, mut f_sum, mut p_top) = (0.0, 0.0, f64::MIN);
+                let mut cf_sum = [0.0; 2];
+                for (&xi, &wq) in nodes.iter().zip(weights) {
+                    let share = 0.5 * wq;
+                    let sd = xi * hl;
+                    let (ax, ay) = (sd * cs, sd * sn);
+                    let (rx, ry) = (x + ax - cx, yy + ay - cy);
+                    let (gvx, gvy) = (vx - cvx - w_body * ay, vy - cvy + w_body * ax);
+                    let dist = (rx * rx + ry * ry).sqrt();
+                    let p = (pc.radius * pc.radius + sd * sd).sqrt() - dist;
+                    p_top = p_top.max(p);
+                    if p <= 0.0 {
+                        continue;
+                    }
+                    let (nx, ny) = (rx / dist, ry / dist);
+                    let (tx, ty) = (-ny, nx);
+                    let p_dot = -(gvx * nx + gvy * ny);
+                    let c = s.contact();
+                    let xr = (p * pc.inv_p_max).clamp(0.0, 1.0);
+                    let elastic = share * (c.c1 * p + c.c2) * p;
+                    let normal =
+                        (elastic + xr * xr * (3.0 - 2.0 * xr) * share * c.b * p_dot).max(0.0);
+                    let (lev, rho) = lever[j];
+                    let lever_g = lev * (1.0 + (sd / rho) * (sd / rho)).sqrt();
+                    let v_t = omega_p[j] * lever_g - (gvx * tx + gvy * ty);
+                    let zf = s.zone_factor()[i];
+                    let mu = s.friction().coefficient(v_t, z, pc.mu_s * zf, pc.mu_k * zf);
+                    let f = mu * normal;
+                    let (cfx, cfy) = (normal * nx + f * tx, normal * ny + f * ty);
+                    fx += cfx;
+                    fy += cfy;
+                    moment += ax * cfy - ay * cfx;
+                    cf_sum[0] += cfx;
+                    cf_sum[1] += cfy;
+                    hub[j][0] -= cfx;
+                    hub[j][1] -= cfy;
+                    hub_mag[j] += normal.abs() + f.abs();
+                    mag[o + 3] += normal.abs() + f.abs();
+                    mag[o + 4] += normal.abs() + f.abs();
+                    mag[o + 5] += hl * (normal.abs() + f.abs());
+                    belt_torque[j] -= lever_g * f;
+                    belt_torque_mag[j] += (lever_g * f).abs();
+                    // v_T is the difference of the surface speed and the
+                    // point's tangential speed (~1 m/s each): their sizes
+                    mag[o + 6] += (omega_p[j] * lever_g).abs() + (gvx * tx + gvy * ty).abs();
+                    p_diss += (normal - elastic) * p_dot + f * v_t;
+                    p_diss_mag += ((normal - elastic) * p_dot).abs() + (f * v_t).abs();
+                    e_sum += elastic;
+                    ev_sum += elastic * v_t;
+                    v_sum += v_t;
+                    inside += 1;
+                    n_sum += normal;
+                    f_sum += f;
+                }
+                if inside == 0 {
+                    continue;
+                }
+                let v_body = if e_sum > 0.0 {
+                    ev_sum / e_sum
+                } else {
+                    v_sum / inside as f64
+                };
+                dz += s.friction().creep_rate(v_body, z);
+                if R::ACTIVE {
+                    rec.contact(i, j, n_sum, f_sum, v_body, p_top);
+                    rec.hub_force(j, -cf_sum[0], -cf_sum[1]);
+                }
+                continue;
+            }
             let (rx, ry) = (x - cx, yy - cy);
             let d2 = rx * rx + ry * ry;
             if d2 >= pc.radius2 {
@@ -133,7 +225,7 @@ fn reference_rhs<R: Recorder>(
             let p_dot = -(vx * nx + vy * ny);
             let (normal, elastic) = s.contact().normal_force(p, p_dot, pc.inv_p_max);
             let (tx, ty) = (-ny, nx);
-            let v_t = omega_p[j] * lever[j] - (vx * tx + vy * ty);
+            let v_t = omega_p[j] * lever[j].0 - (vx * tx + vy * ty);
             let zf = s.zone_factor()[i];
             let mu = s.friction().coefficient(v_t, z, pc.mu_s * zf, pc.mu_k * zf);
             let f = mu * normal;
@@ -145,8 +237,8 @@ fn reference_rhs<R: Recorder>(
             hub_mag[j] += normal.abs() + f.abs();
             mag[o + 3] += normal.abs() + f.abs();
             mag[o + 4] += normal.abs() + f.abs();
-            belt_torque[j] -= lever[j] * f;
-            belt_torque_mag[j] += (lever[j] * f).abs();
+            belt_torque[j] -= lever[j].0 * f;
+            belt_torque_mag[j] += (lever[j].0 * f).abs();
             dz += s.friction().creep_rate(v_t, z);
             mag[o + 6] += v_t.abs();
             let pd = (normal - elastic) * p_dot + f * v_t;
@@ -159,7 +251,7 @@ fn reference_rhs<R: Recorder>(
         }
         dy[o + 3] = fx;
         dy[o + 4] = fy;
-        dy[o + 5] = 0.0;
+        dy[o + 5] = moment;
         dy[o + 6] = dz;
     }
 
@@ -370,7 +462,7 @@ fn max_abs(it: impl Iterator<Item = f64>) -> f64 {
 
 /// Compares the optimised right-hand side with the reference at (t, y),
 /// without and with recording. Returns what the state exercised.
-fn compare(sys: &BeltSystem, lever: &[f64], t: f64, y: &[f64], label: &str) -> Exercised {
+fn compare(sys: &BeltSystem, lever: &[(f64, f64)], t: f64, y: &[f64], label: &str) -> Exercised {
     let dim = sys.dim();
     let (mut dy_ref, mut mag) = (vec![0.0; dim], vec![0.0; dim]);
     let mut sde_mag = vec![0.0; sys.n_bodies()];
@@ -648,14 +740,30 @@ fn drives() -> Vec<(&'static str, DriveParams)> {
     s3.pulleys[0].ramp_time = 0.002;
     let mut short_ramp = s4.clone();
     short_ramp.pulleys[0].ramp_time = 0.002;
+    let along = |mut p: DriveParams, points: usize| {
+        p.contact.points = points;
+        p
+    };
     vec![
         ("5PK creep", short_ramp.clone()),
-        ("5PK kubas2014 dv 1e-3", kubas(short_ramp, 1e-3)),
+        ("5PK kubas2014 dv 1e-3", kubas(short_ramp.clone(), 1e-3)),
         ("5PK creep zone", zone),
         ("section 3 creep", s3.clone()),
         ("section 3 kubas2014 dv 1e-2", kubas(s3, 1e-2)),
         ("accessory drive with back-side idler", accessory),
-        ("accessory drive with tensioner arms", arms),
+        ("accessory drive with tensioner arms", arms.clone()),
+        (
+            "5PK creep, 3 points along the body",
+            along(short_ramp.clone(), 3),
+        ),
+        (
+            "5PK kubas2014 dv 1e-3, 2 points along the body",
+            along(kubas(short_ramp.clone(), 1e-3), 2),
+        ),
+        (
+            "accessory drive with tensioner arms, 3 points",
+            along(arms, 3),
+        ),
     ]
 }
 
@@ -671,14 +779,14 @@ fn check_drive(which: usize) {
         // rest at r - p0 spans 2 atan(h) per body, h = l / (2 (r - p0)), so
         // the surface speed omega r atan(h) / h runs its spans at omega r.
         let l = d.layout().body_length;
-        let lever: Vec<f64> = p
+        let lever: Vec<(f64, f64)> = p
             .pulleys
             .iter()
             .enumerate()
             .map(|(j, q)| {
                 let p0 = d.layout().wrap_of(j).map_or(0.0, |w| w.penetration);
                 let h = l / (2.0 * (q.radius - p0));
-                q.radius * h.atan() / h
+                (q.radius * h.atan() / h, q.radius - p0)
             })
             .collect();
         // Inputs with rates: torque and speed ramps inside the step.
@@ -775,4 +883,19 @@ fn rhs_matches_reference_accessory_drive_back_side_idler() {
 #[test]
 fn rhs_matches_reference_accessory_drive_tensioner_arms() {
     check_drive(6);
+}
+
+#[test]
+fn rhs_matches_reference_5pk_creep_contact_along_the_body() {
+    check_drive(7);
+}
+
+#[test]
+fn rhs_matches_reference_5pk_kubas2014_contact_along_the_body() {
+    check_drive(8);
+}
+
+#[test]
+fn rhs_matches_reference_accessory_drive_arms_contact_along_the_body() {
+    check_drive(9);
 }

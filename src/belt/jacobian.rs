@@ -34,7 +34,7 @@ use super::model::{BeltSystem, BODY_DOF};
 use super::params::MAX_PULLEYS;
 use super::simd::{self, Isa};
 use super::trig;
-use nalgebra::{Matrix2, Matrix3, RowVector2, RowVector3, SMatrix, Vector2, Vector3};
+use nalgebra::{Matrix2, Matrix2x3, Matrix3, RowVector3, SMatrix, Vector2, Vector3};
 
 /// Derivatives of one body's rows: accelerations (vx', vy', omega') and creep rate z'.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -61,16 +61,16 @@ pub struct BodyJacobian {
     pub pz: [f64; MAX_PULLEYS],
     /// d(belt torque on pulley j)/d(this body's position, velocity, z): the
     /// rows of the belt-torque impulse (all pulleys, speed-driven too).
-    pub tq: [RowVector2<f64>; MAX_PULLEYS],
+    pub tq: [RowVector3<f64>; MAX_PULLEYS],
     /// d(belt torque on pulley j)/d(this body's velocity).
-    pub tv: [RowVector2<f64>; MAX_PULLEYS],
+    pub tv: [RowVector3<f64>; MAX_PULLEYS],
     /// d(belt torque on pulley j)/d(this body's z).
     pub tz: [f64; MAX_PULLEYS],
     /// d(force on pulley j's hub)/d(this body's position, velocity, z): the
     /// rows of the hub-force impulse.
-    pub hq: [Matrix2<f64>; MAX_PULLEYS],
+    pub hq: [Matrix2x3<f64>; MAX_PULLEYS],
     /// d(force on pulley j's hub)/d(this body's velocity).
-    pub hv: [Matrix2<f64>; MAX_PULLEYS],
+    pub hv: [Matrix2x3<f64>; MAX_PULLEYS],
     /// d(force on pulley j's hub)/d(this body's z).
     pub hz: [Vector2<f64>; MAX_PULLEYS],
     /// Bit j set: the body touches pulley j (only those entries are non-zero).
@@ -308,8 +308,8 @@ impl Jacobian {
             }
             let o = BODY_DOF * i;
             let (dq, dv, dz) = (
-                Vector2::new(x[o], x[o + 1]),
-                Vector2::new(x[o + 3], x[o + 4]),
+                Vector3::new(x[o], x[o + 1], x[o + 2]),
+                Vector3::new(x[o + 3], x[o + 4], x[o + 5]),
                 x[o + 6],
             );
             for j in 0..np {
@@ -578,11 +578,11 @@ impl BeltSystem {
                 b.pq[j] = RowVector3::zeros();
                 b.pv[j] = RowVector3::zeros();
                 b.pz[j] = 0.0;
-                b.tq[j] = RowVector2::zeros();
-                b.tv[j] = RowVector2::zeros();
+                b.tq[j] = RowVector3::zeros();
+                b.tv[j] = RowVector3::zeros();
                 b.tz[j] = 0.0;
-                b.hq[j] = Matrix2::zeros();
-                b.hv[j] = Matrix2::zeros();
+                b.hq[j] = Matrix2x3::zeros();
+                b.hv[j] = Matrix2x3::zeros();
                 b.hz[j] = Vector2::zeros();
             }
             if with_arms {
@@ -592,6 +592,23 @@ impl BeltSystem {
             let z = y[o + 6];
             let mut fq = Matrix2::zeros();
             let mut fv = Matrix2::zeros();
+            if self.points > 1 {
+                self.contact_along_rows(
+                    i,
+                    y,
+                    &omega_p,
+                    pulleys,
+                    &centre,
+                    &mut hub_force,
+                    jac,
+                    Arms {
+                        lever: &lever,
+                        lever_rate: &lever_rate,
+                        inv_arm: &inv_arm,
+                    },
+                );
+                continue;
+            }
             for j in 0..np {
                 let pc = &pulleys[j];
                 let [cx, cy, cvx, cvy] = centre[j];
@@ -684,11 +701,25 @@ impl BeltSystem {
                 // impulse rows: belt torque -r f, hub force -(N n + f t)
                 let r = pc.lever;
                 let tv2 = Vector2::new(tau[0], tau[1]);
-                b.tq[j] = -r * cp.fric_x;
-                b.tv[j] = -r * cp.fric_v;
+                b.tq[j] = RowVector3::new(-r * cp.fric_x[0], -r * cp.fric_x[1], 0.0);
+                b.tv[j] = RowVector3::new(-r * cp.fric_v[0], -r * cp.fric_v[1], 0.0);
                 b.tz[j] = -r * cp.fric_z;
-                b.hq[j] = -cp.f_x;
-                b.hv[j] = -cp.f_v;
+                b.hq[j] = Matrix2x3::new(
+                    -cp.f_x[(0, 0)],
+                    -cp.f_x[(0, 1)],
+                    0.0,
+                    -cp.f_x[(1, 0)],
+                    -cp.f_x[(1, 1)],
+                    0.0,
+                );
+                b.hv[j] = Matrix2x3::new(
+                    -cp.f_v[(0, 0)],
+                    -cp.f_v[(0, 1)],
+                    0.0,
+                    -cp.f_v[(1, 0)],
+                    -cp.f_v[(1, 1)],
+                    0.0,
+                );
                 b.hz[j] = -cp.fric_z * tv2;
                 if free {
                     jac.tw[j] += -r * cp.fric_w;
@@ -845,6 +876,145 @@ impl BeltSystem {
             let aj = &mut jac.arm[j];
             aj.aa += (own.d_angle + arm.moment(a, hub_force[j]).1) * inv;
             aj.ar += own.d_rate * inv;
+        }
+    }
+}
+
+/// Per pulley on a tensioner arm: c'(alpha), c''(alpha) alpha', 1 / I_arm
+/// (see `jacobian_impl`).
+struct Arms<'a> {
+    lever: &'a [Vector2<f64>; MAX_PULLEYS],
+    lever_rate: &'a [Vector2<f64>; MAX_PULLEYS],
+    inv_arm: &'a [f64; MAX_PULLEYS],
+}
+
+impl BeltSystem {
+    /// Body i's contact rows and columns with the contact along the body
+    /// (`contact.points` > 1, [`contact::segment`]): forces and moments at
+    /// the points, so the body's angle and spin columns and its moment row
+    /// too. Accumulates the force on each arm's hub into `hub_force`.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn contact_along_rows(
+        &self,
+        i: usize,
+        y: &[f64],
+        omega_p: &[f64; MAX_PULLEYS],
+        pulleys: &[super::model::PulleyConst; MAX_PULLEYS],
+        centre: &[[f64; 4]; MAX_PULLEYS],
+        hub_force: &mut [[f64; 2]; MAX_PULLEYS],
+        jac: &mut Jacobian,
+        arms: Arms,
+    ) {
+        let o = BODY_DOF * i;
+        let (inv_m, inv_i) = (self.inv_mass, self.inv_inertia);
+        let rows = Vector3::new(inv_m, inv_m, inv_i);
+        let hl = self.half_length;
+        let (sn, cs) = trig::sin_cos(y[o + 2]);
+        let zf = self.zone_factor[i];
+        for j in 0..self.np {
+            let pc = &pulleys[j];
+            let [cx, cy, cvx, cvy] = centre[j];
+            let r = [y[o] - cx, y[o + 1] - cy];
+            if r[0] * r[0] + r[1] * r[1] >= pc.reach * pc.reach {
+                continue;
+            }
+            let pulley = contact::PulleySide {
+                radii: &pc.radii,
+                omega: omega_p[j],
+                levers: &pc.levers,
+                mu_s: pc.mu_s * zf,
+                mu_k: pc.mu_k * zf,
+                inv_p_max: pc.inv_p_max,
+            };
+            let body = contact::BodySide {
+                r,
+                v: [y[o + 3] - cvx, y[o + 4] - cvy],
+                h: [hl * cs, hl * sn],
+                w: y[o + 5],
+                z: y[o + 6],
+            };
+            let Some((sg, d)) = contact::segment(
+                &self.contact,
+                &self.friction,
+                self.points,
+                &pulley,
+                &body,
+                true,
+            ) else {
+                continue;
+            };
+            let b = &mut jac.bodies[i];
+            b.touching |= 1 << j;
+            let free = !pc.speed_driven;
+            // accelerations: force / m, moment / I
+            let acc = |f: Vector2<f64>, m: f64| Vector3::new(f[0], f[1], m).component_mul(&rows);
+            for c in 0..3 {
+                let (fq, fu) = (d.force_q.column(c), d.force_u.column(c));
+                let aq = acc(Vector2::new(fq[0], fq[1]), d.moment_q[c]);
+                let au = acc(Vector2::new(fu[0], fu[1]), d.moment_u[c]);
+                for r in 0..3 {
+                    b.aq[SELF][(r, c)] += aq[r];
+                    b.av[SELF][(r, c)] += au[r];
+                }
+            }
+            b.az += acc(d.force_z, d.moment_z);
+            b.gq += d.creep_q;
+            b.gv += d.creep_u;
+            // impulse rows: belt torque -sum lever f, hub force -F
+            b.tq[j] = -d.torque_q;
+            b.tv[j] = -d.torque_u;
+            b.tz[j] = -d.torque_z;
+            b.hq[j] = -d.force_q;
+            b.hv[j] = -d.force_u;
+            b.hz[j] = -d.force_z;
+            let k = -pc.balance_partials().1;
+            if free {
+                b.aw[j] += acc(d.force_w, d.moment_w);
+                b.gw[j] += d.creep_w;
+                jac.tw[j] -= d.torque_w;
+                jac.hw[j] -= d.force_w;
+                // the pulley's acceleration through its belt torque (eq. 24)
+                b.pq[j] = k * d.torque_q;
+                b.pv[j] = k * d.torque_u;
+                b.pz[j] = k * d.torque_z;
+                jac.pw[j][j] += k * d.torque_w;
+            }
+            if pc.arm.is_some() {
+                // the contact sees x - c(alpha) and v - c'(alpha) alpha':
+                // its angle and rate columns from the translational ones
+                let (dc, ddc, inv) = (arms.lever[j], arms.lever_rate[j], arms.inv_arm[j]);
+                hub_force[j][0] -= sg.force[0];
+                hub_force[j][1] -= sg.force[1];
+                let tr2 = |m: &Matrix2x3<f64>, v: &Vector2<f64>| m.fixed_columns::<2>(0) * v;
+                let dot2 = |m: &RowVector3<f64>, v: &Vector2<f64>| m[0] * v[0] + m[1] * v[1];
+                let f_a = -tr2(&d.force_q, &dc) - tr2(&d.force_u, &ddc);
+                let f_r = -tr2(&d.force_u, &dc);
+                let m_a = -dot2(&d.moment_q, &dc) - dot2(&d.moment_u, &ddc);
+                let m_r = -dot2(&d.moment_u, &dc);
+                let ba = &mut jac.arm_bodies[i];
+                ba.aa[j] = acc(f_a, m_a);
+                ba.ar[j] = acc(f_r, m_r);
+                ba.ga[j] = -(dot2(&d.creep_q, &dc) + dot2(&d.creep_u, &ddc));
+                ba.gr[j] = -dot2(&d.creep_u, &dc);
+                ba.rq[j] = -(dc.transpose() * d.force_q) * inv;
+                ba.rv[j] = -(dc.transpose() * d.force_u) * inv;
+                ba.rz[j] = -dc.dot(&d.force_z) * inv;
+                let aj = &mut jac.arm[j];
+                aj.aa -= dc.dot(&f_a) * inv;
+                aj.ar -= dc.dot(&f_r) * inv;
+                let t_a = dot2(&d.torque_q, &dc) + dot2(&d.torque_u, &ddc);
+                let t_r = dot2(&d.torque_u, &dc);
+                aj.ta += t_a;
+                aj.tr += t_r;
+                aj.fa -= f_a;
+                aj.fr -= f_r;
+                if free {
+                    aj.aw -= dc.dot(&d.force_w) * inv;
+                    aj.pa -= k * t_a;
+                    aj.pr -= k * t_r;
+                }
+            }
         }
     }
 }
@@ -1006,6 +1176,57 @@ mod tests {
                 let cols = check(d.system(), 0.02, &y);
                 assert_eq!(cols, d.system().dim() - 1);
             }
+        }
+    }
+
+    /// The contact along the body (`contact.points` 2, 3 and 5): the body's
+    /// angle and spin columns and its moment row, the creep rate of the
+    /// weighted sliding velocity, both friction laws, on a torque-driven
+    /// and a speed-driven pulley, and on a tensioner arm's pulley.
+    #[test]
+    fn jacobian_covers_the_contact_along_the_body() {
+        for (points, law, speed_driven, arm) in [
+            (3, FrictionLaw::Creep, false, false),
+            (3, FrictionLaw::Kubas2014, false, false),
+            (3, FrictionLaw::Creep, true, false),
+            (2, FrictionLaw::Creep, false, false),
+            (5, FrictionLaw::Kubas2014, true, false),
+            (3, FrictionLaw::Creep, false, true),
+        ] {
+            let mut p = drive(law, speed_driven).params().clone();
+            p.contact.points = points;
+            if arm {
+                let t = &mut p.pulleys[1];
+                t.tensioner = true;
+                t.arm_pivot = [0.3, 0.06];
+                t.arm_inertia = 2e-3;
+                t.arm_stiffness = 40.0;
+                t.arm_damping = 0.05;
+            }
+            let d = Drive::mounted(&p, 0.0).unwrap();
+            let sys = d.system();
+            assert_eq!(sys.points, points);
+            let mut y = running_state(&d, &[0.0, 3e-5, -7e-5, 1.2e-4, -1.3e-4]);
+            if arm {
+                let o = sys.pulleys[1].arm_offset;
+                y[o] = 2e-4;
+                y[o + 1] = -0.3;
+            }
+            let mut jac = Jacobian::new(sys);
+            sys.jacobian(0.02, &y, &mut jac);
+            // the contact moment couples the angles of bodies on the wraps
+            let touching = jac.bodies.iter().filter(|b| b.touching != 0).count();
+            assert!(touching > 0);
+            assert!(
+                jac.bodies.iter().any(|b| b.aq[SELF][(2, 0)] != 0.0),
+                "moment row"
+            );
+            assert!(
+                jac.bodies.iter().any(|b| b.hq[0][(0, 2)] != 0.0),
+                "angle column"
+            );
+            let cols = check(sys, 0.02, &y);
+            assert_eq!(cols, sys.dim() - 1);
         }
     }
 

@@ -11,6 +11,7 @@
 //! clockwise (s = -1). A belt point on pulley j with travel direction t is
 //! `c_j - s_j r_j n(t)`, n(t) the left normal of t.
 
+use super::elements::contact::{resting_force, ContactLaw};
 use super::model::wrap_angle;
 use super::param_id::{msg, Param, Part};
 use super::params::{param_error, DriveParams, ParamError};
@@ -492,7 +493,29 @@ fn bodies_on_path(params: &DriveParams, spans: &[Span], wraps: &mut [Wrap], l: f
         for _ in 0..8 {
             alpha = arc_pitch_angle(r - p, l, strain);
             // Radial resultant of the two neighbouring SDE forces (eq. 9 in equilibrium).
-            p = penetration_for_force(c1, c2, 2.0 * b.preload * (0.5 * alpha).sin()).min(0.5 * r);
+            let radial = 2.0 * b.preload * (0.5 * alpha).sin();
+            p = penetration_for_force(c1, c2, radial).min(0.5 * r);
+            if params.contact.points > 1 {
+                // contact along the body: the centre sinks until the points'
+                // radial resultant carries the load (elements::contact,
+                // `resting_force`, monotonic in p), by bisection from the
+                // centre contact's penetration (the outer points carry less)
+                let law = ContactLaw { c1, c2, b: 0.0 };
+                let points = params.contact.points;
+                let (mut lo, mut hi) = (p, 0.5 * r);
+                for _ in 0..200 {
+                    let mid = 0.5 * (lo + hi);
+                    if resting_force(&law, r, mid, 0.5 * l, points) < radial {
+                        lo = mid;
+                    } else {
+                        hi = mid;
+                    }
+                    if hi - lo <= 1e-15 * hi {
+                        break;
+                    }
+                }
+                p = 0.5 * (lo + hi);
+            }
         }
         w.penetration = p;
         w.pitch_angle = alpha;

@@ -146,6 +146,9 @@ pub struct BeltSystem {
     /// running).
     pub(super) relaxation: Relaxation,
     pub(super) inputs: Inputs,
+    /// Contact points along each body (`contact.points`,
+    /// [`contact::quadrature`]; 1 = the body centre, the paper's contact).
+    pub(super) points: usize,
 }
 
 pub(crate) use super::trig::wrap_angle;
@@ -215,6 +218,8 @@ struct Block {
     torque_q: [f64; BLOCK + PAD],
     diss_q: [f64; BLOCK + PAD],
     rec_q: [[f64; 9]; BLOCK + PAD],
+    // contact along the body: the contact moments on body j about its centre
+    otq: [f64; BLOCK + PAD],
 }
 
 impl Block {
@@ -250,6 +255,7 @@ impl Block {
             torque_q: B,
             diss_q: B,
             rec_q: [[0.0; 9]; BLOCK + PAD],
+            otq: B,
         }
     }
 
@@ -391,6 +397,17 @@ impl BeltSystem {
                     layout.wrap_of(j).map_or(0.0, |w| w.penetration),
                     l,
                 ),
+                levers: contact::point_levers(
+                    p.radius,
+                    layout.wrap_of(j).map_or(0.0, |w| w.penetration),
+                    l,
+                    params.contact.points,
+                ),
+                radii: contact::point_radii(p.radius, l, params.contact.points),
+                reach: contact::point_radii(p.radius, l, params.contact.points)
+                    .iter()
+                    .fold(0.0, |a: f64, &b| a.max(b))
+                    + 0.5 * l,
                 inv_inertia: 1.0 / p.inertia,
                 inertia: p.inertia,
                 // the groove's wedge effect (elements::groove)
@@ -466,6 +483,7 @@ impl BeltSystem {
             zone_factor,
             relaxation: Relaxation::NONE,
             inputs: Inputs::default(),
+            points: params.contact.points,
         }
     }
 
@@ -564,6 +582,11 @@ impl BeltSystem {
     /// The normal-force law of every contact.
     pub fn contact(&self) -> ContactLaw {
         self.contact
+    }
+
+    /// Contact points along each body (`contact.points`).
+    pub fn contact_points(&self) -> usize {
+        self.points
     }
 
     /// The friction law of every contact.
@@ -968,12 +991,21 @@ impl BeltSystem {
             b.ofy[j] = -weight;
             b.dz[j] = 0.0;
         }
+        let along = self.points > 1;
+        if along {
+            b.otq[..end].fill(0.0);
+        }
         for (q, pc) in pulleys[..self.np].iter().enumerate() {
             let surface = omega_p[q] * pc.lever;
             let c = &centre[q];
-            // the contact loop compiled for the drive's friction law
+            // the contact loop compiled for the drive's friction law (the
+            // contact along the body: one scalar loop for both)
             let (torque, diss, on_bodies) = with_law!(self.friction, law => {
-                self.contacts(b, i0, len, q, pc, c, surface, rec, &law)
+                if along {
+                    self.contacts_along(b, i0, len, q, pc, c, omega_p[q], rec, &law)
+                } else {
+                    self.contacts(b, i0, len, q, pc, c, surface, rec, &law)
+                }
             });
             belt_torque[q] -= torque; // eq. 24
             p_diss += diss;
@@ -991,6 +1023,11 @@ impl BeltSystem {
             b.ay[j] = (b.ofy[j] - b.fy[j] + b.fy[j + 1]) * inv_m - c * b.vy[m];
             let torque = b.torque_cur[j] + b.torque_prev[j + 1];
             b.alpha[j] = torque * inv_i - c * b.w[m];
+        }
+        if along {
+            for j in 0..len {
+                b.alpha[j] += b.otq[j] * inv_i;
+            }
         }
         b.scatter::<WIDE>(&mut dy[BODY_DOF * i0..BODY_DOF * (i0 + len)]);
         p_diss
@@ -1078,6 +1115,81 @@ impl BeltSystem {
         )
     }
 
+    /// [`Self::contacts`] with the contact along the body (more than one
+    /// `contact.points`, [`contact::segment`]): the bodies whose centre
+    /// lies within reach of the pulley (`PulleyConst::reach`) are tested
+    /// point by point; the contact moments on the bodies are added to
+    /// `otq`. A scalar loop over the bodies of the block.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn contacts_along<R: Recorder>(
+        &self,
+        b: &mut Block,
+        i0: usize,
+        len: usize,
+        q: usize,
+        pc: &PulleyConst,
+        centre: &[f64; 4],
+        omega: f64,
+        rec: &mut R,
+        law: &impl Law,
+    ) -> (f64, f64, [f64; 2]) {
+        let [cx, cy, cvx, cvy] = *centre;
+        let reach2 = pc.reach * pc.reach;
+        let (mut torque, mut diss, mut fx, mut fy) = (0.0, 0.0, 0.0, 0.0);
+        for j in 0..len {
+            let m = j + 1;
+            let (rx, ry) = (b.x[m] - cx, b.y[m] - cy);
+            if rx * rx + ry * ry >= reach2 {
+                continue;
+            }
+            let zf = b.zf[j];
+            let pulley = contact::PulleySide {
+                radii: &pc.radii,
+                omega,
+                levers: &pc.levers,
+                mu_s: pc.mu_s * zf,
+                mu_k: pc.mu_k * zf,
+                inv_p_max: pc.inv_p_max,
+            };
+            let body = contact::BodySide {
+                r: [rx, ry],
+                v: [b.vx[m] - cvx, b.vy[m] - cvy],
+                h: [b.hx[m], b.hy[m]],
+                w: b.w[m],
+                z: b.z[m],
+            };
+            let Some((s, _)) =
+                contact::segment(&self.contact, law, self.points, &pulley, &body, false)
+            else {
+                continue;
+            };
+            b.ofx[j] += s.force[0];
+            b.ofy[j] += s.force[1];
+            b.dz[j] += s.creep_rate;
+            b.otq[j] += s.moment;
+            torque += s.torque;
+            diss += s.dissipation;
+            fx += s.force[0];
+            fy += s.force[1];
+            if R::ACTIVE {
+                // the contact's share of the belt's loss (normal dampers and
+                // friction slip) and the power its creep spring stores
+                // (elements::friction, with the body's one creep rate)
+                let fr = law;
+                let phi = fr.spring_energy(body.z, pulley.mu_s, pulley.mu_k);
+                let mu0 = fr.coefficient(0.0, body.z, pulley.mu_s, pulley.mu_k);
+                let stored = s.elastic * mu0 * s.creep_rate + s.elastic_rate * phi;
+                let friction_power = s.slip_power + s.normal * mu0 * s.creep_rate;
+                let damper = s.dissipation - friction_power;
+                rec.contact(i0 + j, q, s.normal, s.friction, s.v_t, s.penetration);
+                rec.belt_loss(damper + s.slip_power.max(0.0));
+                rec.creep_spring_power(stored);
+            }
+        }
+        (torque, diss, [fx, fy])
+    }
+
     /// Discrete update after every accepted step: the creep displacement of a
     /// body that touches no pulley is reset, and kept within its cap.
     pub fn after_step(&self, y: &mut [f64]) {
@@ -1086,12 +1198,22 @@ impl BeltSystem {
         for (j, c) in centres.iter_mut().enumerate().take(self.np) {
             *c = self.pulley_centre(j, y).0;
         }
+        let quad = contact::quadrature(self.points);
         for i in 0..self.n {
             let o = BODY_DOF * i;
             let (x, yy) = (y[o], y[o + 1]);
+            // a point of the body inside a pulley (the centre with one point)
+            let (hx, hy) = if self.points > 1 {
+                let (s, c) = y[o + 2].sin_cos();
+                (self.half_length * c, self.half_length * s)
+            } else {
+                (0.0, 0.0)
+            };
             let touching = self.pulleys[..self.np].iter().zip(&centres).any(|(pc, c)| {
-                let (rx, ry) = (x - c[0], yy - c[1]);
-                rx * rx + ry * ry < pc.radius2
+                quad.iter().zip(&pc.radii).any(|(&(xi, _), &rg)| {
+                    let (rx, ry) = (x + xi * hx - c[0], yy + xi * hy - c[1]);
+                    rx * rx + ry * ry < rg * rg
+                })
             });
             y[o + 6] = if touching {
                 y[o + 6].clamp(-cap, cap)
@@ -1122,15 +1244,44 @@ impl BeltSystem {
         let zf = self.zone_factor[i];
         let mut e = 0.0;
         for (pc, c) in self.pulleys[..self.np].iter().zip(centres) {
-            let p = pc.radius - (b[0] - c[0]).hypot(b[1] - c[1]);
-            if p > 0.0 {
-                e += self.contact.elastic_force(p)
+            // the elastic normal force summed over the contact points
+            let elastic =
+                self.point_penetrations(b, c, &pc.radii, |w, p| w * self.contact.elastic_force(p));
+            if elastic > 0.0 {
+                e += elastic
                     * self
                         .friction
                         .spring_energy(b[6], pc.mu_s * zf, pc.mu_k * zf);
             }
         }
         e
+    }
+
+    /// Sum over the contact points of body `b` (`[x, y, phi, ..]`) with
+    /// positive penetration in its contact circle about `c` (`radii`,
+    /// [`contact::point_radii`]) of `f(w, p)`, w the point's share of the
+    /// law ([`contact::quadrature`]).
+    fn point_penetrations(
+        &self,
+        b: &[f64],
+        c: &[f64; 2],
+        radii: &[f64],
+        f: impl Fn(f64, f64) -> f64,
+    ) -> f64 {
+        let (s, co) = b[2].sin_cos();
+        let (hx, hy) = (self.half_length * co, self.half_length * s);
+        contact::quadrature(self.points)
+            .iter()
+            .zip(radii)
+            .map(|(&(xi, w), &radius)| {
+                let p = radius - (b[0] + xi * hx - c[0]).hypot(b[1] + xi * hy - c[1]);
+                if p > 0.0 {
+                    f(w, p)
+                } else {
+                    0.0
+                }
+            })
+            .sum()
     }
 
     /// Kinetic and potential (elastic + gravity) energy of state `y`.
@@ -1149,8 +1300,7 @@ impl BeltSystem {
             kin += 0.5 * self.mass * (b[3] * b[3] + b[4] * b[4]) + 0.5 * self.inertia * b[5] * b[5];
             pot += self.mass * self.gravity * b[1];
             for (pc, c) in self.pulleys[..self.np].iter().zip(&centres) {
-                let dist = (b[0] - c[0]).hypot(b[1] - c[1]);
-                pot += self.contact.energy(pc.radius - dist);
+                pot += self.point_penetrations(b, c, &pc.radii, |w, p| w * self.contact.energy(p));
             }
             pot += self.creep_spring_energy_of(i, y, &centres);
             let q = &y[BODY_DOF * ((i + n - 1) % n)..];

@@ -59,6 +59,7 @@ params! {
         ContactC2 => "contact stiffness c2",
         ContactDamping => "contact damping",
         ContactPMax => "contact damping ramp p_max",
+        ContactPoints => "contact points per body",
         FrictionLaw => "friction law",
         FrictionDv => "friction transition velocity dv",
         FrictionCreepMax => "friction creep displacement max",

@@ -208,6 +208,10 @@ pub struct ContactParams {
     /// Penetration of full damping, eq. 10-11 [m]; 0 = automatic, per
     /// pulley from its equilibrium penetration (`elements::contact::auto_p_max`).
     pub p_max: f64,
+    /// Contact points along each body: the penalty law per unit length
+    /// integrated by this many Gauss-Legendre points (1 = the body centre,
+    /// the paper's contact; `elements::contact::quadrature`).
+    pub points: usize,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -384,6 +388,7 @@ impl DriveParams {
                 c2: 6.5e5 / l,
                 damping: 300.0 / l,
                 p_max: 1e-3,
+                points: 1,
             },
             friction: FrictionParams::default(),
             solver: SolverParams::default(),
@@ -439,6 +444,7 @@ impl DriveParams {
                 // the paper's 1 mm is 160 times the 6 um penetration here and
                 // switches the damping off (docs/model.md, "Contact")
                 p_max: 1e-5,
+                points: 1,
             },
             friction: FrictionParams::default(),
             solver: SolverParams::default(),
@@ -633,6 +639,7 @@ impl DriveParams {
         )?;
         declared(Param::ContactDamping, c.damping)?;
         declared(Param::ContactPMax, c.p_max)?;
+        declared_count(Param::ContactPoints, c.points)?;
         let f = &self.friction;
         declared(Param::FrictionDv, f.dv)?;
         declared(Param::FrictionCreepMax, f.creep_max)?;

@@ -33,6 +33,7 @@ struct IntegerParams {
     probe_body: i32,
     method: i32,
     max_steps: i32,
+    contact_points: i32,
 }
 
 #[derive(Clone, Debug)]
@@ -108,6 +109,7 @@ fn int_slot<'a>(i: &'a mut IntegerParams, v: &VarInfo) -> Option<&'a mut i32> {
         Var::ProbeBody => &mut i.probe_body,
         Var::SolverMethod => &mut i.method,
         Var::SolverMaxSteps => &mut i.max_steps,
+        Var::ContactPoints => &mut i.contact_points,
         _ => return None,
     })
 }
@@ -173,6 +175,7 @@ impl BeltDrive {
             )
         })?;
         p.solver.max_steps = i.max_steps as u64;
+        p.contact.points = i.contact_points as usize;
         p.validate().map_err(|e| names::render_error(&e))?;
         Ok(p)
     }

@@ -26,6 +26,7 @@ const PARAM_VARIABLES: &[(&str, &str)] = &[
     ("ContactC2", "contact.c2"),
     ("ContactDamping", "contact.damping"),
     ("ContactPMax", "contact.pMax"),
+    ("ContactPoints", "contact.points"),
     ("FrictionLaw", "friction.law"),
     ("FrictionDv", "friction.dv"),
     ("FrictionCreepMax", "friction.creepMax"),

@@ -4,7 +4,8 @@
 //! normal force law ([`ContactLaw`]) and the force with its partials
 //! ([`force_partials`]) live here and nowhere else.
 
-use nalgebra::{Matrix2, RowVector2, Vector2};
+use super::friction::Law;
+use nalgebra::{Matrix2, Matrix2x3, RowVector2, RowVector3, Vector2};
 
 /// Smoothstep of eq. 10-11 on [0, 1]: 0 below, x^2 (3 - 2x) inside, 1 above.
 #[inline(always)]
@@ -273,6 +274,350 @@ pub fn force_partials(
     }
 }
 
+/// Most contact points along a body (`contact.points`).
+pub const MAX_POINTS: usize = 5;
+
+/// The quadrature of the penalty law per unit length along a straight body
+/// (`contact.points`): `(xi, w)` per point, the point at xi l/2 from the
+/// body centre along the body, carrying the share w of the body's c1, c2
+/// and b (the shares add up to 1). 1: the body centre, the paper's contact
+/// (eq. 4-8); 2..=5: Gauss-Legendre on [-1, 1], weights halved (docs/model.md,
+/// "Contact along the body"). `points` outside 1..=5 is a programming error
+/// (the parameter's declared range).
+pub fn quadrature(points: usize) -> &'static [(f64, f64)] {
+    const G1: [(f64, f64); 1] = [(0.0, 1.0)];
+    const A2: f64 = 0.577_350_269_189_625_8;
+    const G2: [(f64, f64); 2] = [(-A2, 0.5), (A2, 0.5)];
+    const A3: f64 = 0.774_596_669_241_483_4;
+    const G3: [(f64, f64); 3] = [(-A3, 5.0 / 18.0), (0.0, 8.0 / 18.0), (A3, 5.0 / 18.0)];
+    const A4: f64 = 0.339_981_043_584_856_3;
+    const B4: f64 = 0.861_136_311_594_052_6;
+    const WA4: f64 = 0.5 * 0.652_145_154_862_546_1;
+    const WB4: f64 = 0.5 * 0.347_854_845_137_453_9;
+    const G4: [(f64, f64); 4] = [(-B4, WB4), (-A4, WA4), (A4, WA4), (B4, WB4)];
+    const A5: f64 = 0.538_469_310_105_683_1;
+    const B5: f64 = 0.906_179_845_938_664;
+    const W05: f64 = 0.5 * 0.568_888_888_888_888_9;
+    const WA5: f64 = 0.5 * 0.478_628_670_499_366_5;
+    const WB5: f64 = 0.5 * 0.236_926_885_056_189_1;
+    const G5: [(f64, f64); 5] = [(-B5, WB5), (-A5, WA5), (0.0, W05), (A5, WA5), (B5, WB5)];
+    match points {
+        1 => &G1,
+        2 => &G2,
+        3 => &G3,
+        4 => &G4,
+        5 => &G5,
+        _ => panic!("contact.points = {points} outside 1..={MAX_POINTS}"),
+    }
+}
+
+/// Friction levers of the contact points of a pulley of `radius` whose
+/// chain rests at the centre penetration `penetration`, bodies of length
+/// `body_length` (docs/model.md, "Contact along the body"): the centre's
+/// lever r_c = [`chordal_lever`] times sqrt(1 + s^2 / rho^2) for the point
+/// at s = xi l/2, rho = r - p0. A body of a chain in stick turns about the
+/// pulley axis with the angular speed omega r_c / rho, so the point at s,
+/// at sqrt(rho^2 + s^2) from the axis, moves at omega r_c sqrt(1 + s^2 /
+/// rho^2) along its own tangent: with these surface speeds no point of a
+/// chain in stick slides, and the span still runs at omega r.
+pub fn point_levers(
+    radius: f64,
+    penetration: f64,
+    body_length: f64,
+    points: usize,
+) -> [f64; MAX_POINTS] {
+    let lever = chordal_lever(radius, penetration, body_length);
+    let rho = radius - penetration;
+    let mut out = [0.0; MAX_POINTS];
+    for (o, &(xi, _)) in out.iter_mut().zip(quadrature(points)) {
+        let s = xi * 0.5 * body_length / rho;
+        *o = if points == 1 {
+            lever
+        } else {
+            lever * (1.0 + s * s).sqrt()
+        };
+    }
+    out
+}
+
+/// Contact radii of the points of a body of length `body_length` on a
+/// pulley of `radius` (docs/model.md, "Contact along the body"):
+/// sqrt(r^2 + s^2) for the point at s = xi l/2, the distance from the axis
+/// at which that point lies when the body touches the pulley circle at its
+/// centre. A point's penetration is measured against its own circle, so a
+/// body resting tangent to the pulley presses on it along its whole length
+/// (as the belt it stands for, which is curved there), not only near its
+/// centre; a body that lands tilted touches first with its leading end.
+/// With one point: r.
+pub fn point_radii(radius: f64, body_length: f64, points: usize) -> [f64; MAX_POINTS] {
+    let mut out = [0.0; MAX_POINTS];
+    for (o, &(xi, _)) in out.iter_mut().zip(quadrature(points)) {
+        let s = xi * 0.5 * body_length;
+        *o = if xi == 0.0 { radius } else { radius.hypot(s) };
+    }
+    out
+}
+
+/// Radial resultant of the elastic normal forces on a straight body (law
+/// `law`, half length `hl`) lying tangent to the circle rho = r - p at its
+/// centre, the centre at penetration `p` in a pulley of `radius`, with the
+/// contact at `points` ([`quadrature`], [`point_radii`]): the point at
+/// s = xi hl lies at d = sqrt(rho^2 + s^2) from the axis and pushes along
+/// its own normal, rho / d of it radially. The mounting's static balance
+/// (layout.rs).
+pub fn resting_force(law: &ContactLaw, radius: f64, p: f64, hl: f64, points: usize) -> f64 {
+    let rho = radius - p;
+    let radii = point_radii(radius, 2.0 * hl, points);
+    quadrature(points)
+        .iter()
+        .zip(radii)
+        .map(|(&(xi, w), rg)| {
+            let s = xi * hl;
+            let d = if xi == 0.0 {
+                rho
+            } else {
+                (rho * rho + s * s).sqrt()
+            };
+            let pg = rg - d;
+            if pg > 0.0 {
+                w * law.elastic_force(pg) * rho / d
+            } else {
+                0.0
+            }
+        })
+        .sum()
+}
+
+/// A pulley as one contact along a body sees it: the points' contact radii
+/// ([`point_radii`]), its speed, the friction levers of the points
+/// ([`point_levers`]), the friction coefficients (the body's zone factor
+/// applied) and the damping ramp.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[allow(missing_docs)]
+pub struct PulleySide<'a> {
+    pub radii: &'a [f64],
+    pub omega: f64,
+    pub levers: &'a [f64],
+    pub mu_s: f64,
+    pub mu_k: f64,
+    pub inv_p_max: f64,
+}
+
+/// A straight body as its contact sees it: centre `r` and velocity `v`
+/// relative to the pulley centre, half vector `h` = l/2 (cos phi, sin phi),
+/// spin `w`, creep displacement `z`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[allow(missing_docs)]
+pub struct BodySide {
+    pub r: [f64; 2],
+    pub v: [f64; 2],
+    pub h: [f64; 2],
+    pub w: f64,
+    pub z: f64,
+}
+
+/// The contact of one body with one pulley, integrated along the body
+/// ([`segment`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Segment {
+    /// Contact force on the body [N].
+    pub force: [f64; 2],
+    /// Its moment about the body centre [N m].
+    pub moment: f64,
+    /// Moment of the friction about the pulley axis, sum of lever f [N m]
+    /// (the pulley gets minus it, eq. 24).
+    pub torque: f64,
+    /// Creep rate dz/dt [m/s].
+    pub creep_rate: f64,
+    /// Power dissipated: normal dampers and friction [W].
+    pub dissipation: f64,
+    /// Sum of the normal forces [N].
+    pub normal: f64,
+    /// Sum of the friction forces along the tangents [N].
+    pub friction: f64,
+    /// Sum of the elastic normal forces [N].
+    pub elastic: f64,
+    /// Its rate [N/s].
+    pub elastic_rate: f64,
+    /// The body's sliding velocity v_T: the points' mean weighted by their
+    /// elastic normal forces [m/s].
+    pub v_t: f64,
+    /// Largest penetration of a point [m].
+    pub penetration: f64,
+    /// Friction power less the normal-force-weighted creep power,
+    /// sum N (mu v_T - mu(0, z) dz/dt) (the friction's share of the belt
+    /// loss, before the clip at 0; see `Law::slip_loss`).
+    pub slip_power: f64,
+}
+
+/// Partial derivatives of a [`Segment`] with respect to the body's
+/// position q = (x, y, phi), velocity u = (vx, vy, omega), creep z and the
+/// pulley speed.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[allow(missing_docs)]
+pub struct SegmentPartials {
+    pub force_q: Matrix2x3<f64>,
+    pub force_u: Matrix2x3<f64>,
+    pub force_z: Vector2<f64>,
+    pub force_w: Vector2<f64>,
+    pub moment_q: RowVector3<f64>,
+    pub moment_u: RowVector3<f64>,
+    pub moment_z: f64,
+    pub moment_w: f64,
+    pub torque_q: RowVector3<f64>,
+    pub torque_u: RowVector3<f64>,
+    pub torque_z: f64,
+    pub torque_w: f64,
+    /// Of the creep rate (zero while it is held at the cap).
+    pub creep_q: RowVector3<f64>,
+    pub creep_u: RowVector3<f64>,
+    pub creep_w: f64,
+}
+
+/// The contact of a straight body with a pulley, the penalty law per unit
+/// length integrated at the points of [`quadrature`] (eq. 9-19 at each
+/// point): each point has its own penetration, penetration rate and
+/// sliding velocity from the body's rigid motion, a share w of the body's
+/// law (`law`, the constants already times l), and the friction force
+/// mu(v_T, z) N of its own sliding velocity and the body's one creep z;
+/// the forces act at the points (a moment about the body centre). The
+/// creep rate is that of the body's sliding velocity, the points' mean
+/// weighted by their elastic normal forces. `None` if no point is inside
+/// the circle. With `partials` the derivatives too (for the Jacobian).
+#[inline]
+pub fn segment(
+    law: &ContactLaw,
+    fr: &impl Law,
+    points: usize,
+    pulley: &PulleySide,
+    body: &BodySide,
+    partials: bool,
+) -> Option<(Segment, SegmentPartials)> {
+    let quad = quadrature(points);
+    let [hx, hy] = body.h;
+    let mut s = Segment {
+        penetration: f64::MIN,
+        ..Segment::default()
+    };
+    let mut d = SegmentPartials::default();
+    // per point: elastic force, sliding velocity and their partials, for
+    // the weighted mean
+    let mut pe = [0.0; MAX_POINTS];
+    let mut pv = [0.0; MAX_POINTS];
+    let mut pe_q = [RowVector3::zeros(); MAX_POINTS];
+    let mut pv_q = [RowVector3::zeros(); MAX_POINTS];
+    let mut pv_u = [RowVector3::zeros(); MAX_POINTS];
+    let mut pv_w = [0.0; MAX_POINTS];
+    let mut inside = [false; MAX_POINTS];
+    let mut any = false;
+    for (g, ((&(xi, wg), &lever), &radius)) in
+        quad.iter().zip(pulley.levers).zip(pulley.radii).enumerate()
+    {
+        let a = [xi * hx, xi * hy];
+        let pa = [-a[1], a[0]];
+        let rg = [body.r[0] + a[0], body.r[1] + a[1]];
+        let vg = [body.v[0] + body.w * pa[0], body.v[1] + body.w * pa[1]];
+        let kin = kinematics(rg, vg, radius, pulley.omega * lever);
+        s.penetration = s.penetration.max(kin.p);
+        if kin.p <= 0.0 {
+            continue;
+        }
+        any = true;
+        inside[g] = true;
+        let lw = ContactLaw {
+            c1: law.c1 * wg,
+            c2: law.c2 * wg,
+            b: law.b * wg,
+        };
+        let (normal, elastic) = lw.normal_force(kin.p, kin.p_dot, pulley.inv_p_max);
+        let mu = fr.coefficient(kin.v_t, body.z, pulley.mu_s, pulley.mu_k);
+        let f = mu * normal; // eq. 19
+        let force = force(&kin, normal, f);
+        s.force[0] += force[0];
+        s.force[1] += force[1];
+        s.moment += pa[0] * force[0] + pa[1] * force[1];
+        s.torque += lever * f;
+        s.dissipation += dissipation(&kin, normal, elastic, f);
+        s.normal += normal;
+        s.friction += f;
+        s.elastic += elastic;
+        s.elastic_rate += lw.elastic_rate(kin.p, kin.p_dot);
+        s.slip_power += f * kin.v_t; // less sum N mu(0, z) dz/dt below
+        pe[g] = elastic;
+        pv[g] = kin.v_t;
+        if partials {
+            let nj = lw.normal_force_jac(kin.p, kin.p_dot, pulley.inv_p_max);
+            let mj = fr.coefficient_jac(kin.v_t, body.z, pulley.mu_s, pulley.mu_k);
+            let cp = force_partials(&kin, vg, nj, mj, lever);
+            // d r_g / dq = [I | perp(a)], d v_g / dq = [0 | -w a],
+            // d v_g / du = [I | perp(a)]
+            let jr = Matrix2x3::new(1.0, 0.0, pa[0], 0.0, 1.0, pa[1]);
+            let jv = Matrix2x3::new(0.0, 0.0, -body.w * a[0], 0.0, 0.0, -body.w * a[1]);
+            let fq = cp.f_x * jr + cp.f_v * jv;
+            let fu = cp.f_v * jr;
+            let tau = Vector2::from(kin.t);
+            let paf = RowVector2::new(pa[0], pa[1]);
+            d.force_q += fq;
+            d.force_u += fu;
+            d.force_z += cp.fric_z * tau;
+            d.force_w += cp.fric_w * tau;
+            // M = perp(a) . F, d perp(a) / dphi = -a
+            d.moment_q += paf * fq;
+            d.moment_q[2] -= a[0] * force[0] + a[1] * force[1];
+            d.moment_u += paf * fu;
+            d.moment_z += cp.fric_z * paf.dot(&tau.transpose());
+            d.moment_w += cp.fric_w * paf.dot(&tau.transpose());
+            d.torque_q += lever * (cp.fric_x * jr + cp.fric_v * jv);
+            d.torque_u += lever * (cp.fric_v * jr);
+            d.torque_z += lever * cp.fric_z;
+            d.torque_w += lever * cp.fric_w;
+            let dp_dr = -RowVector2::from(kin.n);
+            pe_q[g] = (2.0 * lw.c1 * kin.p + lw.c2) * (dp_dr * jr);
+            pv_q[g] = cp.vt_x * jr + cp.vt_v * jv;
+            pv_u[g] = cp.vt_v * jr;
+            pv_w[g] = lever;
+        }
+    }
+    if !any {
+        return None;
+    }
+    // the body's sliding velocity: the elastic-force-weighted mean (the
+    // plain mean of the points inside if they carry no elastic force)
+    let (mut se, mut sev, mut count, mut sv) = (0.0, 0.0, 0.0, 0.0);
+    for g in 0..quad.len() {
+        if inside[g] {
+            se += pe[g];
+            sev += pe[g] * pv[g];
+            count += 1.0;
+            sv += pv[g];
+        }
+    }
+    let weighted = se > 0.0;
+    s.v_t = if weighted { sev / se } else { sv / count };
+    s.creep_rate = fr.creep_rate(s.v_t, body.z);
+    let mu0 = fr.coefficient(0.0, body.z, pulley.mu_s, pulley.mu_k);
+    s.slip_power -= s.normal * mu0 * s.creep_rate;
+    if partials && fr.creep_rate_slope(s.v_t, body.z) != 0.0 {
+        for g in 0..quad.len() {
+            if !inside[g] {
+                continue;
+            }
+            if weighted {
+                let k = 1.0 / se;
+                d.creep_q += k * ((pv[g] - s.v_t) * pe_q[g] + pe[g] * pv_q[g]);
+                d.creep_u += (k * pe[g]) * pv_u[g];
+                d.creep_w += k * pe[g] * pv_w[g];
+            } else {
+                let k = 1.0 / count;
+                d.creep_q += k * pv_q[g];
+                d.creep_u += k * pv_u[g];
+                d.creep_w += k * pv_w[g];
+            }
+        }
+    }
+    Some((s, d))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -402,6 +747,242 @@ mod tests {
                         cp.fric_v[c]
                     );
                 }
+            }
+        }
+    }
+
+    /// [`segment`]'s partials against central differences of its values,
+    /// for 1, 3 and 5 points, both friction laws, a body landing with its
+    /// leading end (some points outside) and one resting across the wrap,
+    /// in slip and near stick. State x = (x, y, phi, vx, vy, omega, z,
+    /// pulley speed); steps as in `force_partials_match_differences` (1e-9
+    /// m, 1e-9 rad on a 5 mm half length, 1e-7 m/s, 1e-7 rad/s, 1e-11 m of
+    /// creep), tolerance 1e-5 of the row's scale.
+    #[test]
+    fn segment_partials_match_differences() {
+        let law = ContactLaw {
+            c1: 3.0e9 * 0.01,
+            c2: 6.5e5 * 0.01,
+            b: 300.0 * 0.01,
+        };
+        let (radius, hl, p0) = (0.05, 0.005, 1e-4);
+        for fl in [FrictionLaw::Kubas2014, FrictionLaw::Creep] {
+            let fr = Friction::new(fl, 1e-3, 1e-4, 2e-4);
+            for points in [1, 3, 5] {
+                let levers = point_levers(radius, p0, 2.0 * hl, points);
+                let radii = point_radii(radius, 2.0 * hl, points);
+                // (angle of the centre, tilt of the body from the tangent,
+                // penetration of the centre, v, w, z, pulley speed)
+                for &(ang, tilt, p, v, w, z, om) in &[
+                    (0.3, 0.02, 3e-5, [-1.2, 0.9], 40.0, 2e-5, 30.01),
+                    (1.1, -0.004, 1.2e-4, [-0.86, 0.5], -19.0, -4e-5, 20.0),
+                    (2.0, 0.0, 8e-5, [0.3, -1.0], 5.0, 1.2e-4, -20.1),
+                ] {
+                    let eval = |x: &[f64; 8]| {
+                        let pulley = PulleySide {
+                            radii: &radii,
+                            omega: x[7],
+                            levers: &levers,
+                            mu_s: 1.05,
+                            mu_k: 0.9,
+                            inv_p_max: 1e4,
+                        };
+                        let body = BodySide {
+                            r: [x[0], x[1]],
+                            v: [x[3], x[4]],
+                            h: [hl * x[2].cos(), hl * x[2].sin()],
+                            w: x[5],
+                            z: x[6],
+                        };
+                        segment(&law, &fr, points, &pulley, &body, true).unwrap()
+                    };
+                    let rr = radius - p;
+                    let phi = ang + std::f64::consts::FRAC_PI_2 + tilt;
+                    let x0 = [rr * ang.cos(), rr * ang.sin(), phi, v[0], v[1], w, z, om];
+                    let (s0, d) = eval(&x0);
+                    let steps = [1e-9, 1e-9, 2e-7, 1e-7, 1e-7, 1e-5, 1e-11, 1e-7];
+                    // rows: force x, force y, moment, torque, creep rate
+                    let value =
+                        |s: &Segment| [s.force[0], s.force[1], s.moment, s.torque, s.creep_rate];
+                    let analytic = |c: usize| -> [f64; 5] {
+                        let col = |q: &Matrix2x3<f64>,
+                                   u: &Matrix2x3<f64>,
+                                   zz: &Vector2<f64>,
+                                   ww: &Vector2<f64>,
+                                   r: usize| match c {
+                            0..=2 => q[(r, c)],
+                            3..=5 => u[(r, c - 3)],
+                            6 => zz[r],
+                            _ => ww[r],
+                        };
+                        let row =
+                            |q: &RowVector3<f64>, u: &RowVector3<f64>, zz: f64, ww: f64| match c {
+                                0..=2 => q[c],
+                                3..=5 => u[c - 3],
+                                6 => zz,
+                                _ => ww,
+                            };
+                        [
+                            col(&d.force_q, &d.force_u, &d.force_z, &d.force_w, 0),
+                            col(&d.force_q, &d.force_u, &d.force_z, &d.force_w, 1),
+                            row(&d.moment_q, &d.moment_u, d.moment_z, d.moment_w),
+                            row(&d.torque_q, &d.torque_u, d.torque_z, d.torque_w),
+                            row(&d.creep_q, &d.creep_u, 0.0, d.creep_w),
+                        ]
+                    };
+                    let mut rows = [[0.0; 8]; 5];
+                    let mut fds = [[0.0; 8]; 5];
+                    for c in 0..8 {
+                        let (mut a, mut b) = (x0, x0);
+                        a[c] += steps[c];
+                        b[c] -= steps[c];
+                        let (va, vb) = (value(&eval(&a).0), value(&eval(&b).0));
+                        let an = analytic(c);
+                        for r in 0..5 {
+                            fds[r][c] = (va[r] - vb[r]) / (2.0 * steps[c]);
+                            rows[r][c] = an[r];
+                        }
+                    }
+                    // the creep rate's z column: dz/dt does not depend on z
+                    // off the cap
+                    for r in 0..5 {
+                        // scale per column group: positions, velocities, z, speed
+                        for c in 0..8 {
+                            let scale = rows[r]
+                                .iter()
+                                .zip(&fds[r])
+                                .map(|(a, b)| a.abs().max(b.abs()))
+                                .fold(0.0, f64::max)
+                                .max(1e-9);
+                            assert!(
+                                (rows[r][c] - fds[r][c]).abs() <= 1e-5 * scale,
+                                "{fl:?} points {points} ang {ang} row {r} col {c}: analytic {} differences {} (scale {scale})",
+                                rows[r][c],
+                                fds[r][c]
+                            );
+                        }
+                    }
+                    assert!(s0.normal > 0.0);
+                }
+            }
+        }
+    }
+
+    /// One point is the paper's centre contact: [`segment`] with 1 point
+    /// gives the force, creep rate and pulley moment of [`kinematics`],
+    /// [`ContactLaw::normal_force`] and [`force`] at the centre, no moment;
+    /// the Gauss weights add up to 1 and integrate a quadratic penalty
+    /// exactly.
+    #[test]
+    fn segment_with_one_point_is_the_centre_contact() {
+        for points in 1..=MAX_POINTS {
+            let q = quadrature(points);
+            let w: f64 = q.iter().map(|p| p.1).sum();
+            assert!((w - 1.0).abs() < 1e-15, "{points}");
+            // the integral over [-1, 1] / 2 of xi^2 is 1/3 (exact from 2 points)
+            let m2: f64 = q.iter().map(|p| p.1 * p.0 * p.0).sum();
+            if points > 1 {
+                assert!((m2 - 1.0 / 3.0).abs() < 1e-15, "{points}");
+            }
+        }
+        let law = ContactLaw {
+            c1: 3.0e7,
+            c2: 6.5e3,
+            b: 3.0,
+        };
+        let fr = Friction::new(FrictionLaw::Creep, 1e-3, 1e-4, 2e-4);
+        let levers = point_levers(0.05, 1e-4, 0.01, 1);
+        assert_eq!(levers[0], chordal_lever(0.05, 1e-4, 0.01));
+        let pulley = PulleySide {
+            radii: &[0.05],
+            omega: 20.0,
+            levers: &levers,
+            mu_s: 1.05,
+            mu_k: 0.9,
+            inv_p_max: 1e4,
+        };
+        let body = BodySide {
+            r: [0.03, 0.0399],
+            v: [-1.2, 0.9],
+            h: [0.004, 0.003],
+            w: 17.0,
+            z: 3e-5,
+        };
+        let (s, _) = segment(&law, &fr, 1, &pulley, &body, false).unwrap();
+        let k = kinematics(body.r, body.v, 0.05, 20.0 * levers[0]);
+        let (n, _) = law.normal_force(k.p, k.p_dot, 1e4);
+        let f = fr.coefficient(k.v_t, body.z, 1.05, 0.9) * n;
+        assert_eq!(s.force, force(&k, n, f));
+        assert_eq!(s.moment, 0.0);
+        assert_eq!(s.torque, levers[0] * f);
+        assert_eq!(s.creep_rate, fr.creep_rate(k.v_t, body.z));
+        assert_eq!(
+            s.dissipation,
+            dissipation(&k, n, law.normal_force(k.p, k.p_dot, 1e4).1, f)
+        );
+    }
+
+    /// A chain in stick on the wrap, every body tangent to rho = r - p0 at
+    /// its centre and turning about the pulley axis with omega r_c / rho
+    /// (the chain's stick speed, [`chordal_lever`]): with the points'
+    /// levers ([`point_levers`]) no point of a body slides; and a body
+    /// resting at its centre's penetration carries [`resting_force`].
+    #[test]
+    fn points_of_a_chain_in_stick_do_not_slide() {
+        let law = ContactLaw {
+            c1: 3.0e7,
+            c2: 6.5e3,
+            b: 3.0,
+        };
+        let fr = Friction::new(FrictionLaw::Creep, 1e-3, 1e-4, 2e-4);
+        let (r, p0, l, omega) = (0.04, 2.0e-4, 0.008, 30.0);
+        let rho = r - p0;
+        for points in 1..=MAX_POINTS {
+            let levers = point_levers(r, p0, l, points);
+            let radii = point_radii(r, l, points);
+            let big = omega * chordal_lever(r, p0, l) / rho;
+            for ang in [0.1, 1.0, 2.5] {
+                let (s, c) = f64::sin_cos(ang);
+                let body = BodySide {
+                    r: [rho * c, rho * s],
+                    v: [-big * rho * s, big * rho * c],
+                    h: [-0.5 * l * s, 0.5 * l * c],
+                    w: big,
+                    z: 0.0,
+                };
+                let pulley = PulleySide {
+                    radii: &radii,
+                    omega,
+                    levers: &levers,
+                    mu_s: 1.05,
+                    mu_k: 0.9,
+                    inv_p_max: 1e4,
+                };
+                let (seg, _) = segment(&law, &fr, points, &pulley, &body, false).unwrap();
+                assert!(seg.v_t.abs() < 1e-14, "{points}: {}", seg.v_t);
+                assert!(seg.friction.abs() < 1e-12, "{points}: {}", seg.friction);
+                // at rest the radial force is the resting force
+                let rest = BodySide {
+                    v: [0.0; 2],
+                    w: 0.0,
+                    ..body
+                };
+                let still = PulleySide {
+                    omega: 0.0,
+                    ..pulley
+                };
+                let (seg, _) = segment(&law, &fr, points, &still, &rest, false).unwrap();
+                let radial = seg.force[0] * c + seg.force[1] * s;
+                let want = resting_force(&law, r, p0, 0.5 * l, points);
+                assert!(
+                    (radial - want).abs() < 1e-12 * want,
+                    "{points}: {radial} {want}"
+                );
+                assert!(
+                    seg.moment.abs() < 1e-12 * want * l,
+                    "{points}: {}",
+                    seg.moment
+                );
             }
         }
     }

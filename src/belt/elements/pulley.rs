@@ -23,6 +23,15 @@ pub struct PulleyConst {
     /// speed is omega times it and a friction force f turns it by lever
     /// times f (eq. 14, 24).
     pub lever: f64,
+    /// Friction levers of the contact points along a body
+    /// (`elements::contact::point_levers`; the first is `lever` with one point).
+    pub levers: [f64; super::contact::MAX_POINTS],
+    /// Contact radii of the points along a body
+    /// (`elements::contact::point_radii`; the radius with one point).
+    pub radii: [f64; super::contact::MAX_POINTS],
+    /// The largest distance from the axis of a body centre some point of
+    /// which can touch: the largest contact radius plus l/2.
+    pub reach: f64,
     /// 1 / J [1/(kg m^2)].
     pub inv_inertia: f64,
     /// Moment of inertia J [kg m^2].
@@ -78,6 +87,9 @@ impl PulleyConst {
         cy: 0.0,
         radius: 0.0,
         radius2: 0.0,
+        levers: [0.0; super::contact::MAX_POINTS],
+        radii: [0.0; super::contact::MAX_POINTS],
+        reach: 0.0,
         lever: 0.0,
         inv_inertia: 0.0,
         inertia: 0.0,
