@@ -349,6 +349,7 @@ impl Default for DriveParams {
                 c2: Param::ContactC2.start(),
                 damping: Param::ContactDamping.start(),
                 p_max: Param::ContactPMax.start(),
+                points: Param::ContactPoints.start() as usize,
             },
             friction: FrictionParams::default(),
             solver: SolverParams::default(),
