@@ -8,8 +8,8 @@
 //!     [--speeds FROM:TO:N] [--at TIME] [--fmax HZ] [--out FILE] [--floquet]
 //! ```
 //!
-//! `--floquet`: at running speeds, the Floquet analysis over one
-//! body-passing period instead of the frozen-time one.
+//! `--floquet`: at running speeds, the Floquet analysis about the periodic
+//! running state instead of the frozen-time one.
 
 use belt_drive::modes::{adapter, analyse, floquet, params, Modes, Options, FLOQUET_SUBSTEPS};
 use std::io::Write;
@@ -124,11 +124,24 @@ fn run() -> Result<(), String> {
         let lin = adapter::linearise(&drive);
         let t1 = Instant::now();
         let modes = if a.floquet && o.transport {
-            floquet(&mut drive, &o, FLOQUET_SUBSTEPS)?
+            floquet(&drive, &o, FLOQUET_SUBSTEPS)?
         } else {
             analyse(&lin, &o)?
         };
         let w = speed.unwrap_or(0.0);
+        if let Some(orbit) = &modes.orbit {
+            eprintln!(
+                "speed {w:.1} rad/s: periodic orbit, period {:.4e} s, defect {:.1e} (settling: {})",
+                orbit.period,
+                orbit.defect(),
+                orbit
+                    .defects
+                    .iter()
+                    .map(|d| format!("{d:.1e}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
+        }
         eprintln!(
             "speed {w:.1} rad/s at t = {at} s: {} modes up to {} Hz, {} above; {} zero modes, \
              {} overdamped, {} states split off, eigenproblem {}x{} in {:.2} s (run {:.1} s)",

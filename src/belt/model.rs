@@ -1198,29 +1198,39 @@ impl BeltSystem {
         for (j, c) in centres.iter_mut().enumerate().take(self.np) {
             *c = self.pulley_centre(j, y).0;
         }
-        let quad = contact::quadrature(self.points);
         for i in 0..self.n {
             let o = BODY_DOF * i;
-            let (x, yy) = (y[o], y[o + 1]);
-            // a point of the body inside a pulley (the centre with one point)
-            let (hx, hy) = if self.points > 1 {
-                let (s, c) = y[o + 2].sin_cos();
-                (self.half_length * c, self.half_length * s)
-            } else {
-                (0.0, 0.0)
-            };
-            let touching = self.pulleys[..self.np].iter().zip(&centres).any(|(pc, c)| {
-                quad.iter().zip(&pc.radii).any(|(&(xi, _), &rg)| {
-                    let (rx, ry) = (x + xi * hx - c[0], yy + xi * hy - c[1]);
-                    rx * rx + ry * ry < rg * rg
-                })
-            });
-            y[o + 6] = if touching {
+            y[o + 6] = if self.touching(i, y, &centres).is_some() {
                 y[o + 6].clamp(-cap, cap)
             } else {
                 0.0
             };
         }
+    }
+
+    /// The first pulley body `i` touches in state `y` (pulley centres
+    /// given): a contact point of the body inside the pulley's contact
+    /// radius (the centre with one point). The test of [`Self::after_step`]
+    /// (and of the modal analysis' contact regions).
+    pub fn touching(&self, i: usize, y: &[f64], centres: &[[f64; 2]]) -> Option<usize> {
+        let o = BODY_DOF * i;
+        let (x, yy) = (y[o], y[o + 1]);
+        let (hx, hy) = if self.points > 1 {
+            let (s, c) = y[o + 2].sin_cos();
+            (self.half_length * c, self.half_length * s)
+        } else {
+            (0.0, 0.0)
+        };
+        let quad = contact::quadrature(self.points);
+        self.pulleys[..self.np]
+            .iter()
+            .zip(centres)
+            .position(|(pc, c)| {
+                quad.iter().zip(&pc.radii).any(|(&(xi, _), &rg)| {
+                    let (rx, ry) = (x + xi * hx - c[0], yy + xi * hy - c[1]);
+                    rx * rx + ry * ry < rg * rg
+                })
+            })
     }
 
     /// Energy stored in the creep springs of every contact of state `y`:

@@ -60,6 +60,8 @@ pub struct Linearisation {
     pub pulleys: Vec<PulleyInfo>,
     /// Free spans (pulley it leaves, pulley it reaches, length [m]), loop order.
     pub spans: Vec<(usize, usize, f64)>,
+    /// The pulley each body touches (the model's contact test), if any.
+    pub contact: Vec<Option<usize>>,
 }
 
 impl Linearisation {
@@ -99,14 +101,10 @@ impl Linearisation {
         out
     }
 
-    /// The pulley whose circle contains body `i`'s centre (the contact test
-    /// of the model, with the centre where its arm has moved it), if any.
+    /// The pulley body `i` touches, if any: the model's own contact test
+    /// (`BeltSystem::touching`, with the pulley where its arm has moved it).
     pub fn contact_of(&self, i: usize) -> Option<usize> {
-        let (x, y) = (self.y[self.body(i, 0)], self.y[self.body(i, 1)]);
-        self.pulleys.iter().position(|p| {
-            let (dx, dy) = (x - p.centre[0], y - p.centre[1]);
-            dx * dx + dy * dy < p.radius * p.radius
-        })
+        self.contact[i]
     }
 }
 
@@ -162,8 +160,15 @@ pub fn linearise(drive: &Drive) -> Linearisation {
             }
         })
         .collect();
+    let centres: Vec<[f64; 2]> = (0..drive.params().pulleys.len())
+        .map(|j| sys.pulley_centre(j, &y).0)
+        .collect();
+    let contact = (0..sys.n_bodies())
+        .map(|i| sys.touching(i, &y, &centres))
+        .collect();
     Linearisation {
         time: t,
+        contact,
         jacobian: jac.to_dense(sys),
         dim: sys.dim(),
         n: sys.n_bodies(),

@@ -7,27 +7,40 @@
 //! S y(t + P) = y(t), S the one-body index shift). The linearisation about
 //! it is periodic.
 //!
-//! 1. **Monodromy.** The variational equations Phi' = J(t) Phi over one P
-//!    along the drive's own trajectory (by the drive's own integrator): the
-//!    analytic Jacobian at `substeps` + 1 instants, the theta method
-//!    ([`FLOQUET_THETA`]) between them (sparse LU of I - theta h J per
-//!    substep), the model's discrete creep reset (a body that touches no
-//!    pulley has z = 0, whatever its perturbation: its row of Phi is
-//!    zeroed), composed with S: M = S Phi(P).
-//! 2. **How periodic the trajectory is.** The run-up leaves lightly damped
-//!    vibrations (span modes, the pulleys' rotation), so the trajectory is
-//!    periodic only approximately; [`Orbit::defects`] reports the residual
-//!    S y(P) - y(0).
-//! 3. **Modes.** The eigenvalues mu of M: the per-substep factor mu^(1/N) (the branch counted by
-//!    following each mode's phase v^H Phi(t) v through 8 instants,
-//!    unambiguous below 4/P) is mapped back through the theta method's
-//!    amplification (1 + (1 - theta) z) / (1 - theta z), z = h lambda,
-//!    which removes its numerical damping and phase error (exactly for a
-//!    constant Jacobian; to the variation of J within one substep
-//!    otherwise).
+//! 1. **Trajectory.** The analysis runs its own copy of the drive, by the
+//!    method `solver.method` selects at the tolerances [`ORBIT_REL_TOL`],
+//!    [`ORBIT_ABS_TOL`] (the set's if tighter): at the run's relTol 1e-4 the
+//!    integration error alone leaves S y(P) - y(0) at a few 1e-2.
+//! 2. **Periodic orbit** ([`settle`]). The run-up leaves lightly damped
+//!    vibrations (span modes, the pulleys' rotation) that decay over
+//!    seconds. The states y_j = S^j y(t0 + j P) at [`SETTLE_PERIODS`]
+//!    successive periods are combined by reduced rank extrapolation (the
+//!    weights, summing to 1, that make the combined period-to-period
+//!    differences least; exact for a linear map with fewer slow modes than
+//!    periods), the drive restarted from the combination, up to
+//!    [`SETTLE_CYCLES`] times until the defect is below [`ORBIT_TOL`]. It
+//!    needs no monodromy: a Newton step from the monodromy's eigenvectors
+//!    diverged (they are far from orthogonal, and the bodies' angles, spins
+//!    and creep jump at the wrap ends).
+//! 3. **Monodromy.** The variational equations Phi' = J(t) Phi over one P
+//!    from the periodic state: the analytic Jacobian at `substeps` + 1
+//!    instants, the theta method ([`FLOQUET_THETA`]) between them (sparse
+//!    LU of I - theta h J per substep), with the model's discrete creep
+//!    reset (a body that touches no pulley has z = 0, whatever its
+//!    perturbation: its row of Phi is zeroed), composed with S:
+//!    M = S Phi(P).
+//! 4. **Modes.** The eigenvalues mu of M: the per-substep factor mu^(1/N),
+//!    its branch (whole turns within P) the one nearest the eigenvector's
+//!    own frequency (its velocities against its displacements), mapped
+//!    back through the theta method's amplification (1 + (1 - theta) z) /
+//!    (1 - theta z), z = h lambda, which removes its numerical damping and
+//!    phase error (exactly for a constant Jacobian; to the variation of J
+//!    within one substep otherwise).
 
 use super::adapter::{self, Linearisation, BODY_STATES};
 use super::{classify, regions, Mode, Modes, Options};
+use crate::belt::drive::Window;
+use crate::belt::params::MAX_PULLEYS;
 use crate::belt::Drive;
 use faer::linalg::solvers::{Eigen, Solve};
 use faer::sparse::linalg::matmul::sparse_dense_matmul;
@@ -56,7 +69,8 @@ pub struct Orbit {
     /// S y(P) - y(0) over the bodies' positions and velocities and the free
     /// pulleys', decouplers' and arms' states, each in units of its scale
     /// (body length, belt speed, 2 pi / n rad and 2 pi / n times the
-    /// fastest pulley speed), of each period integrated.
+    /// fastest pulley speed): of the first period of each extrapolation of
+    /// [`settle`], then of the period analysed (the last).
     pub defects: Vec<f64>,
     /// Tension of the middle element of every free span at the start of
     /// the analysed period [N], span k from pulley k to pulley k+1.
@@ -117,16 +131,12 @@ fn sparse(lin: &Linearisation, scale: f64, diag: f64) -> Result<SparseColMat<usi
         .map_err(|e| format!("sparse Jacobian: {e:?}"))
 }
 
-const SAMPLES: usize = 8;
-
 /// The variational equations integrated over one period along the drive's
 /// trajectory (the drive advances by the period).
 struct Monodromy {
     lin0: Linearisation,
     /// Phi(P), unshifted.
     phi: Mat<f64>,
-    /// Phi at 1/8, 2/8, ... 7/8 of the period.
-    samples: Vec<Mat<f64>>,
 }
 
 fn monodromy(drive: &mut Drive, period: f64, substeps: usize) -> Result<Monodromy, String> {
@@ -138,7 +148,6 @@ fn monodromy(drive: &mut Drive, period: f64, substeps: usize) -> Result<Monodrom
     let mut phi = Mat::<f64>::identity(dim, dim);
     // (1 - theta) h J_k, sparse
     let mut explicit = sparse(&lin0, (1.0 - theta) * h, 0.0)?;
-    let mut samples: Vec<Mat<f64>> = Vec::with_capacity(SAMPLES - 1);
     for s in 1..=substeps {
         adapter::run_to(drive, t0 + s as f64 * h)?;
         let lin = adapter::linearise(drive);
@@ -171,11 +180,8 @@ fn monodromy(drive: &mut Drive, period: f64, substeps: usize) -> Result<Monodrom
         }
         phi = rhs;
         explicit = sparse(&lin, (1.0 - theta) * h, 0.0)?;
-        if s % (substeps / SAMPLES) == 0 && s < substeps {
-            samples.push(phi.clone());
-        }
     }
-    Ok(Monodromy { lin0, phi, samples })
+    Ok(Monodromy { lin0, phi })
 }
 
 /// Where each state goes under the one-body shift S: the body in slot i
@@ -263,14 +269,177 @@ fn scaled_max(x: &[f64], scale: &[f64]) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// Floquet analysis of steady running (module doc, steps 1 and 3) about
-/// the drive's trajectory over one period from its current state (the
-/// drive advances by the period). The result's `orbit` reports the period
-/// and how far the trajectory is from periodic.
+/// Relative tolerance of the analysis' own runs (the settling and the
+/// period of the variational equations), by the method `solver.method`
+/// selects (or the set's tolerance if tighter).
+pub const ORBIT_REL_TOL: f64 = 1e-6;
+
+/// The orbit counts as periodic when its defect ([`Orbit::defects`]) is
+/// below this (the settling stops there).
+pub const ORBIT_TOL: f64 = 1e-3;
+
+/// Periods combined per extrapolation in [`settle`].
+pub const SETTLE_PERIODS: usize = 30;
+
+/// Most extrapolations in [`settle`].
+pub const SETTLE_CYCLES: usize = 4;
+
+/// Absolute tolerance of those runs.
+pub const ORBIT_ABS_TOL: f64 = 1e-8;
+
+/// A copy of `run` (parameters, time, state, inputs, arms' free angles) that
+/// integrates by the same method at the analysis' tolerances
+/// ([`ORBIT_REL_TOL`], [`ORBIT_ABS_TOL`]).
+fn orbit_drive(run: &Drive) -> Result<Drive, String> {
+    let mut p = run.params().clone();
+    p.solver.rel_tol = p.solver.rel_tol.min(ORBIT_REL_TOL);
+    p.solver.abs_tol = p.solver.abs_tol.min(ORBIT_ABS_TOL);
+    let mut drive =
+        Drive::mounted(&p, run.time()).map_err(|e| crate::fmu::names::render_error(&e))?;
+    if !drive.set_arm_free_angles(&run.arm_free_angles()) {
+        return Err("the tensioner arms' free angles do not fit".into());
+    }
+    let window = Window {
+        start: run.time(),
+        omega_change: [0.0; MAX_PULLEYS],
+    };
+    let data = drive.integrator_data();
+    let (h, stats) = (p.solver.initial_step, drive.stats());
+    if drive.restore(
+        run.time(),
+        run.state(),
+        window,
+        *run.inputs(),
+        h,
+        stats,
+        &data,
+    ) {
+        Ok(drive)
+    } else {
+        Err("the state does not fit the drive".into())
+    }
+}
+
+/// Runs the drive over one period and returns S y(P) on the periodic
+/// states (the bodies' angles unwrapped against y(0)), y(0) on the others.
+fn one_period(
+    drive: &mut Drive,
+    lin: &Linearisation,
+    period: f64,
+    to: &[usize],
+) -> Result<Vec<f64>, String> {
+    let y0 = drive.state().to_vec();
+    adapter::run_to(drive, drive.time() + period)?;
+    let r = residual(lin, to, &y0, drive.state());
+    Ok(y0.iter().zip(&r).map(|(a, b)| a + b).collect())
+}
+
+/// Brings the drive onto its periodic running state by reduced rank
+/// extrapolation (module doc, step 2): at most `cycles` times, `k` periods
+/// run and the combination of the period-sampled states (shifted, weights
+/// summing to 1) whose period-to-period differences are least taken as the
+/// new state; stops when a cycle's first period is periodic within
+/// [`ORBIT_TOL`]. Returns the defect of each cycle's first period.
+pub fn settle(drive: &mut Drive, cycles: usize, k: usize) -> Result<Vec<f64>, String> {
+    let mut defects = Vec::new();
+    for _ in 0..cycles {
+        let lin = adapter::linearise(drive);
+        let (period, dir) = passing_period(&lin);
+        if !period.is_finite() || period >= 1.0 || period <= 0.0 {
+            return Err("the belt is not running (under one body passing per second)".into());
+        }
+        let to = shift_map(&lin, dir);
+        let scale = scales(&lin);
+        let periodic = lin.periodic_states();
+        // x_0 = y(t0), x_j = S^j y(t0 + j P) in the labelling of x_0
+        let mut xs: Vec<Vec<f64>> = vec![drive.state().to_vec()];
+        let mut perm: Vec<usize> = (0..lin.dim).collect(); // S^j as a map
+        for _ in 0..k {
+            let lin_now = adapter::linearise(drive);
+            let end = one_period(drive, &lin_now, period, &to)?;
+            // `end` is S y(t + P) in the labelling of y(t); map to x_0's
+            let mut x = vec![0.0; lin.dim];
+            for (r, &v) in end.iter().enumerate() {
+                x[perm[r]] = v;
+            }
+            perm = perm.iter().map(|&p| to[p]).collect();
+            // the bodies' angles continuous from one sample to the next
+            let prev = &xs[xs.len() - 1];
+            for i in 0..lin.n {
+                let a = lin.body(i, 2);
+                x[a] = prev[a] + angle_diff(x[a], prev[a]);
+            }
+            xs.push(x);
+        }
+        let d0: Vec<f64> = xs[1].iter().zip(&xs[0]).map(|(a, b)| a - b).collect();
+        defects.push(scaled_max(&d0, &scale));
+        if defects[defects.len() - 1] < ORBIT_TOL {
+            break;
+        }
+        // differences u_j = x_{j+1} - x_j on the smooth states, scaled
+        let rows: Vec<usize> = periodic
+            .iter()
+            .copied()
+            .filter(|&st| scale[st] > 0.0)
+            .collect();
+        let u = Mat::<f64>::from_fn(rows.len(), k, |i, j| {
+            let st = rows[i];
+            (xs[j + 1][st] - xs[j][st]) / scale[st]
+        });
+        // min |U g| with sum g = 1: g = c / sum c, (U^T U) c = 1, by SVD
+        let svd = u.thin_svd().map_err(|e| format!("svd: {e:?}"))?;
+        let sv = svd.S().column_vector();
+        let smax = (0..sv.nrows()).map(|i| sv[i]).fold(0.0, f64::max);
+        let mut c = vec![0.0; k];
+        for q in 0..sv.nrows() {
+            if sv[q] > 1e-10 * smax {
+                let w: f64 = (0..k).map(|j| svd.V()[(j, q)]).sum::<f64>() / (sv[q] * sv[q]);
+                for (j, cj) in c.iter_mut().enumerate() {
+                    *cj += svd.V()[(j, q)] * w;
+                }
+            }
+        }
+        let total: f64 = c.iter().sum();
+        let g: Vec<f64> = c.iter().map(|x| x / total).collect();
+        // the extrapolated state in x_0's labelling, then in the drive's
+        // (its slot st is slot perm[st] of x_0's)
+        let mut s = xs[k].clone();
+        for &st in &periodic {
+            s[st] = (0..k).map(|j| g[j] * xs[j][st]).sum();
+        }
+        let mut y = drive.state().to_vec();
+        for &st in &periodic {
+            y[st] = if st < BODY_STATES * lin.n && st % BODY_STATES == 2 {
+                y[st] + angle_diff(s[perm[st]], y[st])
+            } else {
+                s[perm[st]]
+            };
+        }
+        let cap = drive.params().friction.creep_max * 1.5;
+        let lin_now = adapter::linearise(drive);
+        for i in 0..lin.n {
+            let z = lin.body(i, 6);
+            y[z] = if lin_now.contact_of(i).is_some() {
+                y[z].clamp(-cap, cap)
+            } else {
+                0.0
+            };
+        }
+        adapter::set_state(drive, &y)?;
+    }
+    Ok(defects)
+}
+
+/// Floquet analysis of steady running (module doc) from the running state
+/// of `run` (not advanced: the analysis integrates its own copy). The
+/// result's `orbit` reports the period and how far the analysed trajectory
+/// is from periodic (not an error: check `Orbit::defect`).
 ///
 /// Errors: a drive at rest (no period), a failed run, a failed eigen-solve.
-pub fn floquet(drive: &mut Drive, opts: &Options, substeps: usize) -> Result<Modes, String> {
-    let substeps = substeps.div_ceil(SAMPLES).max(1) * SAMPLES;
+pub fn floquet(run: &Drive, opts: &Options, substeps: usize) -> Result<Modes, String> {
+    let substeps = substeps.max(1);
+    let drive = &mut orbit_drive(run)?;
+    let mut defects = settle(drive, SETTLE_CYCLES, SETTLE_PERIODS)?;
     let lin = adapter::linearise(drive);
     let (period, dir) = passing_period(&lin);
     if !period.is_finite() || period >= 1.0 || period <= 0.0 {
@@ -282,7 +451,7 @@ pub fn floquet(drive: &mut Drive, opts: &Options, substeps: usize) -> Result<Mod
     let (span_tension, belt_speed) = adapter::span_tensions_and_speed(drive);
     let mono = monodromy(drive, period, substeps)?;
     let r = residual(&lin, &to, &y0, drive.state());
-    let defect = scaled_max(&r, &scales(&lin));
+    defects.push(scaled_max(&r, &scales(&lin)));
     let dim = lin.dim;
     let mut m = Mat::<f64>::zeros(dim, dim);
     for rr in 0..dim {
@@ -295,7 +464,7 @@ pub fn floquet(drive: &mut Drive, opts: &Options, substeps: usize) -> Result<Mod
     let mut out = floquet_modes(&mono, &evd, period, substeps, opts)?;
     out.orbit = Some(Orbit {
         period,
-        defects: vec![defect],
+        defects,
         span_tension,
         belt_speed,
         time: t0,
@@ -323,27 +492,6 @@ fn floquet_modes(
     };
     let regions = regions(lin0);
     let (s, u) = (evd.S(), evd.U());
-    // v^H Phi(t) v at every sampled instant for the eigenvectors v that
-    // can be modes: one of each conjugate pair, |mu| above 1e-8 (a motion
-    // that decays by 1e-8 within one body passage is counted as overdamped).
-    let candidates: Vec<usize> = (0..dim)
-        .filter(|&k| s[k].im > 0.0 && s[k].re.hypot(s[k].im) > 1e-8)
-        .collect();
-    let (ure, uim) = (
-        Mat::<f64>::from_fn(dim, candidates.len(), |r, c| u[(r, candidates[c])].re),
-        Mat::<f64>::from_fn(dim, candidates.len(), |r, c| u[(r, candidates[c])].im),
-    );
-    let mut phase: Vec<Vec<c64>> = vec![Vec::new(); dim];
-    for ph in &mono.samples {
-        let (yre, yim) = (ph * &ure, ph * &uim);
-        for (c, &k) in candidates.iter().enumerate() {
-            let mut p = c64::new(0.0, 0.0);
-            for r in 0..dim {
-                p += u[(r, k)].conj() * c64::new(yre[(r, c)], yim[(r, c)]);
-            }
-            phase[k].push(p);
-        }
-    }
     let mut vec = vec![c64::new(0.0, 0.0); dim];
     for k in 0..dim {
         let mu = s[k];
@@ -363,15 +511,26 @@ fn floquet_modes(
         for (row, x) in vec.iter_mut().enumerate() {
             *x = u[(row, k)];
         }
-        // Phase of v^H Phi(t) v through the period, ending at mu |v|^2.
-        let norm2: f64 = vec.iter().map(|x| x.norm_sqr()).sum();
-        let mut prev = c64::new(norm2, 0.0);
-        let mut turned = 0.0;
-        for &p in phase[k].iter().chain(std::iter::once(&(mu * norm2))) {
-            turned += (p * prev.conj()).arg();
-            prev = p;
+        // The branch (whole turns within P) nearest the eigenvector's own
+        // frequency: its velocities against its displacements, lambda ~
+        // (x^H x') / (x^H x) over the bodies and the free pulleys.
+        let (mut xx, mut xv) = (0.0, c64::new(0.0, 0.0));
+        let mut pair = |q: usize, w: usize| {
+            xx += vec[q].norm_sqr();
+            xv += vec[q].conj() * vec[w];
+        };
+        for i in 0..n {
+            pair(lin0.body(i, 0), lin0.body(i, 3));
+            pair(lin0.body(i, 1), lin0.body(i, 4));
         }
-        let turns = ((turned - arg) / TAU).round();
+        for (j, p) in lin0.pulleys.iter().enumerate() {
+            if !p.speed_driven {
+                let (a, w) = lin0.pulley(j);
+                pair(a, w);
+            }
+        }
+        let f_own = (xv.im / xx) / TAU;
+        let turns = ((f_own * period) - arg / TAU).round();
         // per-substep factor, then back through the theta method's
         // amplification g(z) = (1 + (1 - theta) z) / (1 - theta z)
         let per_step = c64::from_polar(
