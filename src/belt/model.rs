@@ -178,56 +178,89 @@ fn padded(len: usize) -> usize {
     len.next_multiple_of(PAD)
 }
 
+/// Length of a body column: body m = 0..len + 2 plus the padding, rounded
+/// up to whole 64-byte cache lines.
+const BODY_COL: usize = (BLOCK + 2 + PAD).next_multiple_of(8);
+/// Length of an SDE column (k = 0..=len plus the padding), whole cache lines.
+const SDE_COL: usize = (BLOCK + 1 + PAD).next_multiple_of(8);
+/// Length of a column of the block's own bodies (j = 0..len plus the
+/// padding), whole cache lines.
+const OWN_COL: usize = (BLOCK + PAD).next_multiple_of(8);
+
 /// Structure-of-arrays scratch of one block of bodies (see [`BeltSystem::rhs`]).
+///
+/// Laid out on 64-byte cache lines, the same wherever the allocator puts
+/// it: the loops over the block's own bodies (j, body column index m = j + 1,
+/// SDE k = j and j + 1) start each column's vector loads on a line boundary,
+/// so an AVX-512 load (64 bytes) straddles two lines only where it reads a
+/// neighbour (x[k] beside x[k + 1]). With the allocator's 16-byte alignment
+/// the straddling loads, and the AVX-512 right-hand side's time, depended on
+/// where the block landed (docs/benchmarks.md).
 #[derive(Clone)]
+#[repr(C, align(64))]
 struct Block {
+    /// Puts index 1 of the body columns on a line boundary.
+    _lead: [f64; 7],
     // body m = 0..len + 2 (body i0 - 1 + m)
-    x: [f64; BLOCK + 2 + PAD],
-    y: [f64; BLOCK + 2 + PAD],
-    phi: [f64; BLOCK + 2 + PAD],
-    vx: [f64; BLOCK + 2 + PAD],
-    vy: [f64; BLOCK + 2 + PAD],
-    w: [f64; BLOCK + 2 + PAD],
-    z: [f64; BLOCK + 2 + PAD],
+    x: [f64; BODY_COL],
+    y: [f64; BODY_COL],
+    phi: [f64; BODY_COL],
+    vx: [f64; BODY_COL],
+    vy: [f64; BODY_COL],
+    w: [f64; BODY_COL],
+    z: [f64; BODY_COL],
     /// Half body vector (l/2) (cos phi, sin phi).
-    hx: [f64; BLOCK + 2 + PAD],
-    hy: [f64; BLOCK + 2 + PAD],
+    hx: [f64; BODY_COL],
+    hy: [f64; BODY_COL],
+    /// Puts the SDE columns on a line boundary.
+    _gap: [f64; 1],
     // SDE k = 0..=len (SDE i0 + k, between body m = k and m = k + 1): force
     // on body k + 1 (minus it on body k), torque on body k + 1 and on body
     // k, dissipated power
-    fx: [f64; BLOCK + 1 + PAD],
-    fy: [f64; BLOCK + 1 + PAD],
-    torque_cur: [f64; BLOCK + 1 + PAD],
-    torque_prev: [f64; BLOCK + 1 + PAD],
-    diss: [f64; BLOCK + 1 + PAD],
+    fx: [f64; SDE_COL],
+    fy: [f64; SDE_COL],
+    torque_cur: [f64; SDE_COL],
+    torque_prev: [f64; SDE_COL],
+    diss: [f64; SDE_COL],
     // body j = 0..len (body i0 + j): friction zone factor, own forces
     // (gravity, contact), creep rate, accelerations
-    zf: [f64; BLOCK + PAD],
-    ofx: [f64; BLOCK + PAD],
-    ofy: [f64; BLOCK + PAD],
-    dz: [f64; BLOCK + PAD],
-    ax: [f64; BLOCK + PAD],
-    ay: [f64; BLOCK + PAD],
-    alpha: [f64; BLOCK + PAD],
+    zf: [f64; OWN_COL],
+    ofx: [f64; OWN_COL],
+    ofy: [f64; OWN_COL],
+    dz: [f64; OWN_COL],
+    ax: [f64; OWN_COL],
+    ay: [f64; OWN_COL],
+    alpha: [f64; OWN_COL],
     // contacts of body j with the pulley at hand: moment r f, power, and
     // the recorded values (normal force, friction force, v_T, penetration,
     // force on the body, inside)
-    cfx: [f64; BLOCK + PAD],
-    cfy: [f64; BLOCK + PAD],
-    cdz: [f64; BLOCK + PAD],
-    torque_q: [f64; BLOCK + PAD],
-    diss_q: [f64; BLOCK + PAD],
-    rec_q: [[f64; 9]; BLOCK + PAD],
+    cfx: [f64; OWN_COL],
+    cfy: [f64; OWN_COL],
+    cdz: [f64; OWN_COL],
+    torque_q: [f64; OWN_COL],
+    diss_q: [f64; OWN_COL],
+    rec_q: [[f64; 9]; OWN_COL],
     // contact along the body: the contact moments on body j about its centre
-    otq: [f64; BLOCK + PAD],
+    otq: [f64; OWN_COL],
 }
+
+// The layout the loops rely on (see [`Block`]).
+const _: () = assert!(
+    std::mem::offset_of!(Block, x) % 64 == 56
+        && std::mem::offset_of!(Block, hy) % 64 == 56
+        && std::mem::offset_of!(Block, fx) % 64 == 0
+        && std::mem::offset_of!(Block, zf) % 64 == 0
+        && std::mem::offset_of!(Block, rec_q) % 64 == 0
+        && std::mem::offset_of!(Block, otq) % 64 == 0
+);
 
 impl Block {
     fn new() -> Self {
-        const C: [f64; BLOCK + 2 + PAD] = [0.0; BLOCK + 2 + PAD];
-        const S: [f64; BLOCK + 1 + PAD] = [0.0; BLOCK + 1 + PAD];
-        const B: [f64; BLOCK + PAD] = [0.0; BLOCK + PAD];
+        const C: [f64; BODY_COL] = [0.0; BODY_COL];
+        const S: [f64; SDE_COL] = [0.0; SDE_COL];
+        const B: [f64; OWN_COL] = [0.0; OWN_COL];
         Self {
+            _lead: [0.0; 7],
             x: C,
             y: C,
             phi: C,
@@ -237,6 +270,7 @@ impl Block {
             z: C,
             hx: C,
             hy: C,
+            _gap: [0.0; 1],
             fx: S,
             fy: S,
             torque_cur: S,
@@ -254,7 +288,7 @@ impl Block {
             cdz: B,
             torque_q: B,
             diss_q: B,
-            rec_q: [[0.0; 9]; BLOCK + PAD],
+            rec_q: [[0.0; 9]; OWN_COL],
             otq: B,
         }
     }
@@ -294,7 +328,7 @@ impl Block {
     #[inline(always)]
     fn gather<const WIDE: bool>(&mut self, m: usize, src: &[f64]) {
         assert!(m + src.len() / BODY_DOF <= BLOCK + 2);
-        simd::gather::<WIDE, { BLOCK + 2 + PAD }>(
+        simd::gather::<WIDE, BODY_COL>(
             [
                 &mut self.x,
                 &mut self.y,

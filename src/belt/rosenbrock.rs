@@ -316,33 +316,25 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
         }
         for i in 0..S {
             // stage state y + sum a_ij U_j
+            let (done, rest) = self.u.split_at_mut(i);
             simd::dispatch_with(
                 isa,
-                (&mut self.stage[..], &self.u),
+                (&mut self.stage[..], &*done),
                 #[inline(always)]
-                move |(stage, u)| {
-                    stage.copy_from_slice(y);
-                    for (j, uj) in u.iter().enumerate().take(i) {
-                        axpy(T.a[i][j], uj, stage);
-                    }
+                move |(stage, done)| {
+                    combine(stage, y, |y| y, &terms(done, |j| T.a[i][j]));
                 },
             );
             sys.rhs(ws, t + T.alpha[i] * h, &self.stage, &mut self.f);
             self.control.stats.rhs_evals += 1;
             // right-hand side of (I - c J) U_i = c (f + sum c_ij/h U_j)
-            let (done, rest) = self.u.split_at_mut(i);
             let ui = &mut rest[0];
             simd::dispatch_with(
                 isa,
                 (&mut ui[..], &self.f[..], &*done),
                 #[inline(always)]
                 move |(ui, f, done)| {
-                    for (u, f) in ui.iter_mut().zip(f) {
-                        *u = c * f;
-                    }
-                    for (j, uj) in done.iter().enumerate() {
-                        axpy(c * T.c[i][j] / h, uj, ui);
-                    }
+                    combine(ui, f, |f| c * f, &terms(done, |j| c * T.c[i][j] / h));
                 },
             );
             sys.solve(&self.jac, &mut self.mat, ui);
@@ -392,12 +384,64 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
     }
 }
 
-/// `y += a x`, skipped for a = 0 (zero coefficients of the tableau).
+/// The earlier stages `done` with their coefficients `coef(j)`, zero
+/// coefficients of the tableau left out: at most S - 1 terms, `len` used.
 #[inline(always)]
-fn axpy(a: f64, x: &[f64], y: &mut [f64]) {
-    if a != 0.0 {
-        for (y, x) in y.iter_mut().zip(x) {
-            *y += a * x;
+fn terms<'a>(done: &'a [Vec<f64>], coef: impl Fn(usize) -> f64) -> Terms<'a> {
+    let mut t = Terms {
+        a: [0.0; S - 1],
+        x: [&[]; S - 1],
+        len: 0,
+    };
+    for (j, x) in done.iter().enumerate() {
+        let a = coef(j);
+        if a != 0.0 {
+            t.a[t.len] = a;
+            t.x[t.len] = x;
+            t.len += 1;
+        }
+    }
+    t
+}
+
+/// Coefficients and vectors of a stage combination.
+struct Terms<'a> {
+    a: [f64; S - 1],
+    x: [&'a [f64]; S - 1],
+    len: usize,
+}
+
+/// `out = first(base) + a_0 x_0 + a_1 x_1 + ...`, summed left to right in
+/// one pass over the vectors (the same numbers as a copy followed by one
+/// `out += a_j x_j` pass per term, without re-reading `out`).
+#[inline(always)]
+fn combine(out: &mut [f64], base: &[f64], first: impl Fn(f64) -> f64, t: &Terms) {
+    let n = out.len();
+    let (base, [x0, x1, x2]) = (
+        &base[..n],
+        t.x.map(|x| if x.is_empty() { x } else { &x[..n] }),
+    );
+    let [a0, a1, a2] = t.a;
+    match t.len {
+        0 => {
+            for (o, &b) in out.iter_mut().zip(base) {
+                *o = first(b);
+            }
+        }
+        1 => {
+            for ((o, &b), &x0) in out.iter_mut().zip(base).zip(x0) {
+                *o = first(b) + a0 * x0;
+            }
+        }
+        2 => {
+            for (((o, &b), &x0), &x1) in out.iter_mut().zip(base).zip(x0).zip(x1) {
+                *o = first(b) + a0 * x0 + a1 * x1;
+            }
+        }
+        _ => {
+            for ((((o, &b), &x0), &x1), &x2) in out.iter_mut().zip(base).zip(x0).zip(x1).zip(x2) {
+                *o = first(b) + a0 * x0 + a1 * x1 + a2 * x2;
+            }
         }
     }
 }

@@ -1,12 +1,21 @@
-//! `cargo xtask bench [--quick] [--core N]`: runs the benchmark suites
-//! (`benches/belt.rs` all sections and its accuracy section again with the
-//! stiff method, `benches/stiff.rs` all sections but the hour-long `kubas`) and
-//! rewrites the generated part of `docs/benchmarks.md`, the text between
-//! `<!-- bench:begin -->` and `<!-- bench:end -->`, with their tables, the
-//! machine (CPU model and cores from /proc/cpuinfo), the command, the date,
-//! the commit and the load average. The hand-written text around the markers
-//! is kept.
+//! `cargo xtask bench [--full] [--quick] [--core N]`: runs the benchmark
+//! suites and rewrites the generated part of `docs/benchmarks.md`, the text
+//! between `<!-- bench:begin -->` and `<!-- bench:end -->`, with their
+//! tables, the machine (CPU model and cores from /proc/cpuinfo), the command,
+//! the date, the commit and the load average. The hand-written text around
+//! the markers is kept.
 //!
+//! By default (about 10 minutes of one core) `benches/belt.rs` runs every
+//! section but `accuracy` (`rhs default fmu scaling kubas`) and the stiff
+//! method's accuracy on the 5PK drive at relTol 1e-4 and 1e-5 only (`accuracy
+//! --method 2 --drive 5pk --rtol 1e-4,1e-5`, against the RKF45 reference),
+//! and `benches/stiff.rs` all sections but the hour-long `kubas`: the figures
+//! the speed targets are stated in (right-hand side per body, the stiff
+//! method's real-time factor).
+//!
+//! * `--full`: `benches/belt.rs` all sections, its accuracy section at every
+//!   tolerance on both drives for both methods (over an hour on the shared
+//!   development machine);
 //! * `--quick`: short horizons (a smoke run of the whole chain; the figures
 //!   are not the documented ones);
 //! * `--core N`: pins this process, and so cargo and the benchmarks it
@@ -24,6 +33,7 @@ const BEGIN: &str = "<!-- bench:begin -->";
 const END: &str = "<!-- bench:end -->";
 
 struct Options {
+    full: bool,
     quick: bool,
     core: Option<usize>,
     docs: bool,
@@ -31,6 +41,7 @@ struct Options {
 
 fn parse(args: &[String]) -> Result<Options> {
     let mut o = Options {
+        full: false,
         quick: false,
         core: None,
         docs: true,
@@ -38,6 +49,7 @@ fn parse(args: &[String]) -> Result<Options> {
     let mut it = args.iter().filter(|a| a.as_str() != "--");
     while let Some(a) = it.next() {
         match a.as_str() {
+            "--full" => o.full = true,
             "--quick" => o.quick = true,
             "--no-docs" => o.docs = false,
             "--core" => {
@@ -49,7 +61,7 @@ fn parse(args: &[String]) -> Result<Options> {
             }
             other => {
                 return Err(format!(
-                    "bench: unknown argument {other} (usage: cargo xtask bench [--quick] [--core N] [--no-docs])"
+                    "bench: unknown argument {other} (usage: cargo xtask bench [--full] [--quick] [--core N] [--no-docs])"
                 ))
             }
         }
@@ -166,6 +178,34 @@ fn as_markdown(out: &str) -> String {
     md
 }
 
+/// The sections of `benches/belt.rs` run (all with `--full`; without, all
+/// but the hour-long `accuracy`).
+fn belt_sections(full: bool) -> &'static [&'static str] {
+    if full {
+        &["all"]
+    } else {
+        &["rhs", "default", "fmu", "scaling", "kubas"]
+    }
+}
+
+/// The stiff method's accuracy run: every tolerance on both drives with
+/// `--full`, else the 5PK drive at the default relTol 1e-4 and at 1e-5.
+fn stiff_accuracy_args(full: bool) -> &'static [&'static str] {
+    if full {
+        &["accuracy", "--method", "2"]
+    } else {
+        &[
+            "accuracy",
+            "--method",
+            "2",
+            "--drive",
+            "5pk",
+            "--rtol",
+            "1e-4,1e-5",
+        ]
+    }
+}
+
 /// Replaces the text between the markers in `doc` with `body`.
 fn splice(doc: &str, body: &str) -> Result<String> {
     let (Some(b), Some(e)) = (doc.find(BEGIN), doc.find(END)) else {
@@ -198,22 +238,25 @@ pub fn bench(args: &[String]) -> Result<()> {
         "build the benchmarks (release profile, baseline x86-64)",
     )?;
     let mut belt = cargo();
-    belt.args(["bench", "--bench", "belt", "--", "all"]);
+    belt.args(["bench", "--bench", "belt", "--"]);
+    belt.args(belt_sections(o.full));
     if o.quick {
         belt.arg("--quick");
     }
-    let mut belt_out = run_capture(&mut belt, "benches/belt.rs (all sections)")?;
+    let mut belt_out = run_capture(
+        &mut belt,
+        &format!("benches/belt.rs {}", belt_sections(o.full).join(" ")),
+    )?;
     // the stiff method's accuracy against the same RKF45 reference (#8)
     let mut stiff_accuracy = cargo();
-    stiff_accuracy.args([
-        "bench", "--bench", "belt", "--", "accuracy", "--method", "2",
-    ]);
+    stiff_accuracy.args(["bench", "--bench", "belt", "--"]);
+    stiff_accuracy.args(stiff_accuracy_args(o.full));
     if o.quick {
         stiff_accuracy.arg("--quick");
     }
     belt_out.push_str(&run_capture(
         &mut stiff_accuracy,
-        "benches/belt.rs accuracy --method 2",
+        &format!("benches/belt.rs {}", stiff_accuracy_args(o.full).join(" ")),
     )?);
     let mut stiff = cargo();
     stiff.args(["bench", "--bench", "stiff"]);
@@ -227,6 +270,9 @@ pub fn bench(args: &[String]) -> Result<()> {
 
     let belt_out = as_markdown(&belt_out);
     let mut cmd = String::from("cargo xtask bench");
+    if o.full {
+        cmd.push_str(" --full");
+    }
     if o.quick {
         cmd.push_str(" --quick");
     }
@@ -243,8 +289,11 @@ pub fn bench(args: &[String]) -> Result<()> {
          ### benches/belt.rs\n\n{belt_out}\n### benches/stiff.rs\n\n```text\n{stiff_out}```\n",
         quick = if o.quick {
             " (**quick smoke run: short horizons, not the documented figures**)"
-        } else {
+        } else if o.full {
             ""
+        } else {
+            " (the default subset: every section of `benches/belt.rs` but `accuracy`, which runs for the \
+             stiff method on the 5PK drive at relTol 1e-4 and 1e-5 only; `--full` runs all)"
         },
         dirty = if dirty { " + uncommitted changes" } else { "" },
         machine = machine(),
@@ -289,7 +338,8 @@ mod tests {
     fn options() {
         let a = |v: &[&str]| parse(&v.iter().map(|s| s.to_string()).collect::<Vec<_>>());
         let o = a(&["--", "--quick", "--core", "0"]).unwrap();
-        assert!(o.quick && o.core == Some(0) && o.docs);
+        assert!(o.quick && o.core == Some(0) && o.docs && !o.full);
+        assert!(a(&["--full"]).unwrap().full);
         assert!(a(&["--core"]).is_err());
         assert!(a(&["--bogus"]).is_err());
         assert!(!a(&["--no-docs"]).unwrap().docs);

@@ -18,7 +18,7 @@
 //!   (`validation/validate.py`; plots in `docs/validation/`, tables in
 //!   `docs/validation.md` and `docs/model.md`). Arguments after `--` go to
 //!   the script (`--quick --out DIR`, `--method`, `--dv`, `--jobs`, ...).
-//! * `bench [--quick] [--core N] [--no-docs]` - the benchmark suites
+//! * `bench [--full] [--quick] [--core N] [--no-docs]` - the benchmark suites
 //!   (`benches/belt.rs`, `benches/stiff.rs`); rewrites the generated part of
 //!   `docs/benchmarks.md` (see `bench.rs`).
 //! * `modes -- [--ssv FILE] [--set NAME=VALUE ...] [--speeds FROM:TO:N] [--at TIME]`:
