@@ -8,9 +8,11 @@
 //! * `$OUT_DIR/modelDescription.xml`, the description with its GUID;
 //! * `$OUT_DIR/param_ranges.rs`, included by `src/belt/param_id.rs`: each
 //!   parameter id's declared range and unit (`Param::declared`), and
+//!   `$OUT_DIR/param_starts.rs`, included by `src/belt/params.rs`: each id's
+//!   start value (`Param::start`, the core's defaults), and
 //!   `$OUT_DIR/param_variables.rs`, included by `src/fmu/names.rs`: each
-//!   id's variable (`var_of`), both from the list in
-//!   `src/fmu/param_variables.rs`.
+//!   id's variable (`var_of`) and the decoding of the coded Integers, all
+//!   from the lists in `src/fmu/param_variables.rs`.
 
 use std::path::PathBuf;
 use std::{env, fs, process};
@@ -43,6 +45,7 @@ fn run() -> Result<(), String> {
     let params = model_description::param_tables(
         &compiled.description,
         PARAM_VARIABLES,
+        PARAM_CODES,
         "Param",
         "DeclaredRange",
     )
@@ -50,6 +53,7 @@ fn run() -> Result<(), String> {
     write(&out_dir.join("modelDescription.xml"), &compiled.xml)?;
     write(&out_dir.join("param_ranges.rs"), &params.ranges)?;
     write(&out_dir.join("param_variables.rs"), &params.variables)?;
+    write(&out_dir.join("param_starts.rs"), &params.starts)?;
     write(&out_dir.join("variables.rs"), &table)
 }
 

@@ -136,9 +136,16 @@ fn run(label: &str, p: &DriveParams, horizon: f64) {
 
 /// Sections to run: every argument that is not a flag names one
 /// (`kernels`, `5pk`, `s3`, `scaling` = `scaling5pk` + `scaling3`, `kubas`);
-/// none runs all but `kubas`.
+/// none runs all but `kubas`. `--points=K` runs the `5pk` and `scaling`
+/// drives with K contact points along each body (`contact.points`).
 fn main() {
     let quick = std::env::var("BELT_BENCH_QUICK").is_ok();
+    let points: usize = std::env::args()
+        .find_map(|a| {
+            a.strip_prefix("--points=")
+                .map(|k| k.parse().expect("--points=K"))
+        })
+        .unwrap_or(1);
     let picked: Vec<String> = std::env::args()
         .skip(1)
         .filter(|a| !a.starts_with('-'))
@@ -159,6 +166,7 @@ fn main() {
             let mut p = DriveParams::kubas_section4();
             p.solver.method = Method::Rosenbrock;
             p.solver.rel_tol = tol;
+            p.contact.points = points;
             run(&format!("5PK, rtol {tol:e}"), &p, horizon);
         }
     }
@@ -198,6 +206,7 @@ fn main() {
             p.belt.n_bodies = n;
             p.probe_body = 0;
             p.solver.method = Method::Rosenbrock;
+            p.contact.points = points;
             run(&format!("n = {n}"), &p, scaling_horizon);
         }
     }

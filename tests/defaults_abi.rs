@@ -79,6 +79,34 @@ fn sixty_body_drive_initialises_with_the_default_probe() {
     assert!(out[4] > 200.0, "{out:?}");
 }
 
+/// The counts of pulleys and bodies outside their declared ranges (the
+/// model description's 2..=6 and 3..=2000), negative ones included, are
+/// refused at fmi2ExitInitializationMode by the core's one check of the
+/// counts, naming the variable, its range and the value as set.
+#[test]
+fn pulley_and_body_counts_are_refused_by_name() {
+    let fmi = Fmi::load();
+    for (name, value, range) in [
+        ("nPulleys", 1, "in 2..=6"),
+        ("nPulleys", 7, "in 2..=6"),
+        ("nPulleys", -1, "in 2..=6"),
+        ("belt.nBodies", 2, "in 3..=2000"),
+        ("belt.nBodies", 2001, "in 3..=2000"),
+        ("belt.nBodies", -40, "in 3..=2000"),
+    ] {
+        let (i, s) = init(&fmi, &[(name, value)], &[], &[]);
+        i.assert_refused(s, &format!("{name} must be {range} (got {value})"));
+    }
+    // the ends of the ranges pass the count check (whatever the layout then
+    // says of 3 bodies or of the default positions of pulleys 3-6)
+    for (name, value) in [("nPulleys", 6), ("nPulleys", 2), ("belt.nBodies", 3)] {
+        let (i, _) = init(&fmi, &[(name, value)], &[], &[]);
+        let count = format!("{name} must be");
+        let log = i.log.borrow();
+        assert!(!log.iter().any(|(_, _, m)| m.contains(&count)), "{log:?}");
+    }
+}
+
 /// A radius typed in millimetres is refused naming the radius and the value
 /// in metres, not the other pulley's position.
 #[test]

@@ -4,8 +4,8 @@
 //! meshes lies within 10 % of the mesh-converged value pinned from the
 //! committed mesh study (`cargo run --profile ci --example mesh_study`).
 //!
-//! Run with `cargo test --profile ci --test mesh` (about two minutes on
-//! one core: the stiff method at relTol 1e-5, as in the study).
+//! Run with `cargo test --profile ci --test mesh` (about two and a half
+//! minutes on one core: the stiff method at relTol 1e-5, as in the study).
 
 use belt_drive::belt::params::Method;
 use belt_drive::belt::{Drive, DriveParams};
@@ -106,4 +106,47 @@ fn equal_pulleys_slip_within_ten_percent_of_converged() {
         (loss / converged - 1.0).abs() < 0.1,
         "{loss} vs {converged}"
     );
+}
+
+/// The contact along the body (`contact.points` = 3, docs/model.md,
+/// "Contact along the body") on the paper's 5PK drive at its 150 bodies
+/// (l = 0.30 x the radius) and on the 2:1 drive at 120 bodies (l = 0.20 x
+/// the small radius), the meshes of issue 16's goal: slip within 10 % of
+/// the mesh-converged value of the same contact, the Richardson
+/// extrapolation (n^-2) of the two finest meshes of the committed study
+/// (docs/validation.md, `mesh_study all 2 1e-5 - 3`): 0.3783 % (300 / 600
+/// bodies) and 0.2415 % (240 / 480). The study measured +7.0 % and +9.6 %;
+/// the centre contact gives +24 % and +23 % on these meshes. 10 % is the
+/// issue's bound, not a fit: the extrapolations themselves are good to
+/// about 0.5 % (the 5PK at 1200 bodies gives 0.3800 %).
+#[test]
+fn contact_along_the_body_slip_within_ten_percent_at_practical_meshes() {
+    for (name, mut p, (t0, t1), converged) in [
+        (
+            "5PK drive, 150 bodies",
+            DriveParams::kubas_section4(),
+            (0.6, 1.2),
+            0.3783e-2,
+        ),
+        (
+            "2:1 drive, 120 bodies",
+            two_to_one(120),
+            (0.4, 1.0),
+            0.2415e-2,
+        ),
+    ] {
+        p.contact.points = 3;
+        p.probe_body = 0;
+        let loss = speed_loss(&p, t0, t1);
+        println!(
+            "{name}, 3 contact points: speed loss {:.4} % against converged {:.4} % ({:+.1} %)",
+            100.0 * loss,
+            100.0 * converged,
+            100.0 * (loss / converged - 1.0)
+        );
+        assert!(
+            (loss / converged - 1.0).abs() < 0.1,
+            "{name}: {loss} vs {converged}"
+        );
+    }
 }

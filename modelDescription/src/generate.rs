@@ -290,8 +290,59 @@ pub struct ParamTables {
     /// only: the core that includes it learns no variable names.
     pub ranges: String,
     /// `fn var_of(p: {id_type}) -> (Var, usize)`: each id's variable in the
-    /// table of [`rust_table`] and its array index.
+    /// table of [`rust_table`] and its array index; and for each coded id
+    /// (`codes` of [`param_tables`], e.g. `FrictionLaw`)
+    /// `pub fn decode_friction_law(code: i32) -> Option<T>` and
+    /// `pub fn encode_friction_law(value: T) -> i32`, `T` the type of its values.
     pub variables: String,
+    /// `impl {id_type} { pub const fn start(self) -> f64 }`: each id's start
+    /// value as a number (an array id's of each element, by its 0-based
+    /// index; a Boolean 0 or 1; a coded Integer its code); and for each
+    /// coded id `pub const START_FRICTION_LAW: T`, its start value decoded.
+    /// Numbers and the core's own values only: no variable names, no codes
+    /// to interpret.
+    pub starts: String,
+}
+
+/// A start attribute as a number: a Real's value, an Integer's, a Boolean's
+/// 0 or 1.
+fn start_number(v: &Variable) -> Result<f64, String> {
+    let s = v
+        .start
+        .as_deref()
+        .ok_or_else(|| format!("{} has no start value (line {})", v.name, v.line))?;
+    let bad = || {
+        format!(
+            "{}: start=\"{s}\" is not a {} (line {})",
+            v.name, v.ty, v.line
+        )
+    };
+    Ok(match v.ty.as_str() {
+        "Real" => s.trim().parse::<f64>().map_err(|_| bad())?,
+        "Integer" => s.trim().parse::<i64>().map_err(|_| bad())? as f64,
+        "Boolean" => match s.trim() {
+            "true" | "1" => 1.0,
+            "false" | "0" => 0.0,
+            _ => return Err(bad()),
+        },
+        _ => return Err(bad()),
+    })
+}
+
+/// `FrictionLaw` -> `FRICTION_LAW` (`upper`) or `friction_law`.
+fn snake(id: &str, upper: bool) -> String {
+    let mut out = String::new();
+    for (i, ch) in id.chars().enumerate() {
+        if ch.is_ascii_uppercase() && i > 0 {
+            out.push('_');
+        }
+        out.push(if upper {
+            ch.to_ascii_uppercase()
+        } else {
+            ch.to_ascii_lowercase()
+        });
+    }
+    out
 }
 
 /// One declared range as a Rust expression of the `Range` struct `ty`.
@@ -318,14 +369,61 @@ fn range_literal(md: &ModelDescription, v: &Variable, ty: &str) -> Result<String
 /// `min_exclusive`, `max_exclusive` (`bool`) and `unit` (`&'static str`).
 /// The generated `match`es list every id without a wildcard, so the
 /// compiler refuses an enum variant that `ids` lacks.
+///
+/// `codes` lists the Integer parameters whose values are codes: the id and
+/// each code with the value it stands for, as a Rust path of the including
+/// module (`("FrictionLaw", &[(1, "FrictionLaw::Kubas2014"), ...])`; the
+/// type is the path less its last segment).
 pub fn param_tables(
     md: &ModelDescription,
     ids: &[(&str, &str)],
+    codes: &[(&str, &[(i32, &str)])],
     id_type: &str,
     range_type: &str,
 ) -> Result<ParamTables, String> {
     let mut ranges = String::new();
     let mut vars = String::new();
+    let mut starts = String::new();
+    let mut decoded = String::new();
+    let mut coded_fns = String::new();
+    for (id, values) in codes {
+        let (_, pattern) = ids
+            .iter()
+            .find(|(other, _)| other == id)
+            .ok_or_else(|| format!("coded parameter {id} is not a parameter id"))?;
+        let v = md
+            .variable(pattern)
+            .filter(|v| v.ty == "Integer")
+            .ok_or_else(|| format!("coded parameter {id}: {pattern} is not an Integer"))?;
+        let start = start_number(v)? as i32;
+        let (_, value) = values.iter().find(|(c, _)| *c == start).ok_or_else(|| {
+            format!("coded parameter {id}: start value {start} of {pattern} is no code")
+        })?;
+        let ty = value
+            .rsplit_once("::")
+            .map(|(ty, _)| ty)
+            .ok_or_else(|| format!("coded parameter {id}: {value} is not a path"))?;
+        let (upper, lower) = (snake(id, true), snake(id, false));
+        let _ = writeln!(
+            decoded,
+            "\n/// `{pattern}`'s start value ({start}), decoded.\npub const START_{upper}: {ty} = {value};"
+        );
+        let arms: String = values
+            .iter()
+            .map(|(c, v)| format!("        {c} => Some({v}),\n"))
+            .collect();
+        let back: String = values
+            .iter()
+            .map(|(c, v)| format!("        {v} => {c},\n"))
+            .collect();
+        let _ = write!(
+            coded_fns,
+            "\n/// The value `{pattern}`'s code stands for.\n\
+             pub fn decode_{lower}(code: i32) -> Option<{ty}> {{\n    match code {{\n{arms}        _ => None,\n    }}\n}}\n\
+             \n/// `{pattern}`'s code of a value.\n\
+             pub fn encode_{lower}(value: {ty}) -> i32 {{\n    match value {{\n{back}    }}\n}}\n"
+        );
+    }
     for (i, (id, pattern)) in ids.iter().enumerate() {
         if ids[..i].iter().any(|(other, _)| other == id) {
             return Err(format!("parameter id {id} is listed twice"));
@@ -351,12 +449,23 @@ pub fn param_tables(
             }
         }
         let (variant, _) = variant_and_index(&first.name)?;
+        let values = elements
+            .iter()
+            .map(|v| start_number(v).map(|x| format!("{x:?}")))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|e| format!("parameter id {id}: {e}"))?;
         if array {
             let _ = writeln!(ranges, "            Self::{id}(_) => {range},");
             let _ = writeln!(vars, "        {id_type}::{id}(j) => (Var::{variant}, j),");
+            let _ = writeln!(
+                starts,
+                "            Self::{id}(j) => [{}][j],",
+                values.join(", ")
+            );
         } else {
             let _ = writeln!(ranges, "            Self::{id} => {range},");
             let _ = writeln!(vars, "        {id_type}::{id} => (Var::{variant}, 0),");
+            let _ = writeln!(starts, "            Self::{id} => {},", values[0]);
         }
     }
     Ok(ParamTables {
@@ -373,7 +482,16 @@ pub fn param_tables(
             "// @generated by the model_description crate from modelDescription.xml. Do not edit.\n\n\
              /// The variable behind a parameter id, and its 0-based array index.\n\
              fn var_of(p: {id_type}) -> (Var, usize) {{\n    \
-             match p {{\n{vars}    }}\n}}\n"
+             match p {{\n{vars}    }}\n}}\n{coded_fns}"
+        ),
+        starts: format!(
+            "// @generated by the model_description crate from modelDescription.xml. Do not edit.\n\n\
+             impl {id_type} {{\n    \
+             /// The start value of this parameter as the model description states it\n    \
+             /// (a pulley parameter's in its slot; a Boolean 0 or 1; a coded Integer\n    \
+             /// its code, decoded in the `START_*` constants).\n    \
+             pub const fn start(self) -> f64 {{\n        \
+             match self {{\n{starts}        }}\n    }}\n}}\n{decoded}"
         ),
     })
 }
@@ -443,7 +561,7 @@ mod tests {
     fn param_tables_follow_the_description() {
         let md = crate::parse(TWO_SLOTS).unwrap();
         let ids = [("Count", "n"), ("Radius", "p[#].r")];
-        let t = param_tables(&md, &ids, "Id", "R").unwrap();
+        let t = param_tables(&md, &ids, &[], "Id", "R").unwrap();
         assert!(t.ranges.contains(
             "Self::Count => R { min: Some(2.0), max: Some(6.0), min_exclusive: false, max_exclusive: false, unit: \"\" },"
         ), "{}", t.ranges);
@@ -461,14 +579,54 @@ mod tests {
             t.variables
         );
         // refusals: an unknown variable, an id twice, slots that disagree
-        let e = param_tables(&md, &[("X", "q[#].r")], "Id", "R").unwrap_err();
+        let e = param_tables(&md, &[("X", "q[#].r")], &[], "Id", "R").unwrap_err();
         assert!(e.contains("X: no variable q[#].r"), "{e}");
-        let e = param_tables(&md, &[("Count", "n"), ("Count", "n")], "Id", "R").unwrap_err();
+        let e = param_tables(&md, &[("Count", "n"), ("Count", "n")], &[], "Id", "R").unwrap_err();
         assert!(e.contains("Count is listed twice"), "{e}");
         let md =
             crate::parse(&TWO_SLOTS.replacen("start=\"2\" min=\"0\"", "start=\"2\" min=\"1\"", 1))
                 .unwrap();
-        let e = param_tables(&md, &ids, "Id", "R").unwrap_err();
+        let e = param_tables(&md, &ids, &[], "Id", "R").unwrap_err();
         assert!(e.contains("p[2].r declares another range"), "{e}");
+    }
+
+    /// Start values per id and slot, and a coded Integer decoded: its start
+    /// as the value it stands for, the decoding both ways.
+    #[test]
+    fn param_starts_and_codes_follow_the_description() {
+        let md = crate::parse(TWO_SLOTS).unwrap();
+        let ids = [("Count", "n"), ("Radius", "p[#].r")];
+        let codes: &[(&str, &[(i32, &str)])] = &[("Count", &[(2, "K::Two"), (3, "K::Three")])];
+        let t = param_tables(&md, &ids, codes, "Id", "R").unwrap();
+        assert!(t.starts.contains("Self::Count => 2.0,"), "{}", t.starts);
+        assert!(
+            t.starts.contains("Self::Radius(j) => [1.0, 2.0][j],"),
+            "{}",
+            t.starts
+        );
+        assert!(
+            t.starts.contains("pub const START_COUNT: K = K::Two;"),
+            "{}",
+            t.starts
+        );
+        for needle in [
+            "pub fn decode_count(code: i32) -> Option<K> {",
+            "        3 => Some(K::Three),",
+            "pub fn encode_count(value: K) -> i32 {",
+            "        K::Two => 2,",
+        ] {
+            assert!(t.variables.contains(needle), "{needle}: {}", t.variables);
+        }
+        // refusals: a start that is no code, a coded id that is not an id
+        let codes: &[(&str, &[(i32, &str)])] = &[("Count", &[(1, "K::One")])];
+        let e = param_tables(&md, &ids, codes, "Id", "R").unwrap_err();
+        assert!(e.contains("start value 2 of n is no code"), "{e}");
+        let codes: &[(&str, &[(i32, &str)])] = &[("Other", &[(2, "K::Two")])];
+        let e = param_tables(&md, &ids, codes, "Id", "R").unwrap_err();
+        assert!(e.contains("Other is not a parameter id"), "{e}");
+        // a parameter without a start value
+        let md = crate::parse(&TWO_SLOTS.replacen("start=\"2\" min=\"0\"", "min=\"0\"", 1));
+        let e = param_tables(&md.unwrap(), &ids, &[], "Id", "R").unwrap_err();
+        assert!(e.contains("p[2].r has no start value"), "{e}");
     }
 }

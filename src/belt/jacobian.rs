@@ -499,12 +499,18 @@ impl BeltSystem {
 
     /// [`Self::jacobian`] built for `isa`.
     fn jacobian_with(&self, isa: Isa, t: f64, y: &[f64], jac: &mut Jacobian) {
+        // a kernel per friction law (and instruction set): one copy of the
+        // loops in each, calling the law directly
+        with_law!(self.friction, law => self.jacobian_for(&law, isa, t, y, jac));
+    }
+
+    /// [`Self::jacobian_with`] for the friction law `friction`.
+    fn jacobian_for(&self, friction: &impl Law, isa: Isa, t: f64, y: &[f64], jac: &mut Jacobian) {
         simd::dispatch_with(
             isa,
             (self, y, jac),
             #[inline(always)]
-            // compiled for the drive's friction law
-            |(sys, y, jac)| with_law!(sys.friction, law => sys.jacobian_impl(&law, t, y, jac)),
+            |(sys, y, jac)| sys.jacobian_impl(friction, t, y, jac),
         );
     }
 

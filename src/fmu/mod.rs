@@ -14,7 +14,8 @@ mod snapshot;
 pub mod variables;
 
 use crate::belt::drive::Outputs;
-use crate::belt::params::{PulleyParams, MAX_PULLEYS, PROBE_AUTO};
+use crate::belt::param_id::Param;
+use crate::belt::params::{self, PulleyParams, MAX_PULLEYS, PROBE_AUTO};
 use crate::belt::{Drive, DriveParams, Inputs};
 use crate::fmi::{FmuModel, ModelDescription, StepError};
 use variables::{Start, Var, VarInfo, VarType, MODEL_DESCRIPTION, VARIABLES};
@@ -120,29 +121,36 @@ impl BeltDrive {
     pub fn drive_params(&self) -> Result<DriveParams, String> {
         let i = &self.ints;
         let mut p = self.params.clone();
-        // The Integer parameters are codes, 1-based indices and counts the
-        // adapter decodes (slots, enums, 0-based indices): their min/max
-        // are checked here, before decoding. The Real parameters go to the
-        // core as they are: `DriveParams::validate` checks their declared
+        // The Integer parameters that are codes and 1-based indices the
+        // adapter decodes (enums, 0-based indices): their min/max are checked
+        // here, before decoding. The counts `nPulleys` and `belt.nBodies` are
+        // the core's to check (`params::count`, their declared range), and
+        // they are converted through that check: a count outside its range
+        // cannot become a list of pulley slots. The Real parameters go to
+        // the core as they are: `DriveParams::validate` checks their declared
         // ranges (the same table, `Param::declared`), for FMU and library
         // users alike.
+        let used = params::count(Param::PulleyCount, i.n_pulleys.into())
+            .map_err(|e| names::render_error(&e))?;
+        let n_bodies = params::count(Param::BeltBodies, i.n_bodies.into())
+            .map_err(|e| names::render_error(&e))?;
         let mut ints = i.clone();
-        for v in VARIABLES
-            .iter()
-            .filter(|v| v.ty == VarType::Integer && (v.min.is_some() || v.max.is_some()))
-        {
+        for v in VARIABLES.iter().filter(|v| {
+            v.ty == VarType::Integer
+                && (v.min.is_some() || v.max.is_some())
+                && !matches!(v.var, Var::NPulleys | Var::BeltNBodies)
+        }) {
             if let Some(&mut x) = int_slot(&mut ints, v) {
                 v.check_range(f64::from(x))?;
             }
         }
         // The unused pulley slots keep their declared ranges too (importers
         // are shown them for every slot).
-        let used = i.n_pulleys as usize;
         for (j, q) in p.pulleys.iter().enumerate().skip(used) {
             q.validate_ranges(j).map_err(|e| names::render_error(&e))?;
         }
         p.pulleys.truncate(used);
-        p.belt.n_bodies = i.n_bodies as usize;
+        p.belt.n_bodies = n_bodies;
         p.friction.law = names::friction_law(i.friction_law).ok_or_else(|| {
             range_error("friction.law", "1 (kubas2014) or 2 (creep)", i.friction_law)
         })?;
@@ -301,10 +309,12 @@ impl FmuModel for BeltDrive {
     }
 
     fn new() -> Self {
-        let mut params = DriveParams::kubas_section4();
-        params
-            .pulleys
-            .resize(MAX_PULLEYS, PulleyParams::paper_5pk(0.0, 0.0));
+        // the core's defaults are the model description's start values
+        // (generated from it), in every pulley slot
+        let params = DriveParams {
+            pulleys: (0..MAX_PULLEYS).map(PulleyParams::start).collect(),
+            ..DriveParams::default()
+        };
         let mut model = Self {
             params,
             ints: IntegerParams::default(),
@@ -313,7 +323,10 @@ impl FmuModel for BeltDrive {
             drive: None,
             outputs: None,
         };
-        // Start values come from the model description (single source of truth).
+        // The Integer parameters' start values as the adapter holds them
+        // (codes, 1-based indices), and the rest once more from the same
+        // table (the Real and Boolean ones are already the core's defaults,
+        // `start_values_are_the_core_defaults`).
         for v in VARIABLES {
             let _ = match v.start {
                 Start::Real(x) => model.set_real(v, x),
@@ -529,6 +542,43 @@ mod tests {
                 _ => {}
             }
         }
+    }
+
+    /// The core's defaults are the model description's start values, in
+    /// every pulley slot, but for the step guard of a library run (the one
+    /// deliberate difference, `params::LIBRARY_MAX_STEPS`); and every start
+    /// value is inside its declared range.
+    #[test]
+    fn start_values_are_the_core_defaults() {
+        let m = BeltDrive::new();
+        for j in 0..MAX_PULLEYS {
+            assert_eq!(m.params.pulleys[j], PulleyParams::start(j), "slot {j}");
+        }
+        let mut expected = DriveParams::default();
+        expected.solver.max_steps = 100_000;
+        assert_ne!(params::LIBRARY_MAX_STEPS, 100_000);
+        assert_eq!(m.drive_params().unwrap(), expected);
+        assert_eq!(info(Var::SolverMaxSteps).start, Start::Integer(100_000));
+        // the coded parameters decoded as the adapter decodes them
+        let Start::Integer(law) = info(Var::FrictionLaw).start else {
+            panic!("friction.law has an Integer start")
+        };
+        assert_eq!(names::friction_law(law), Some(params::START_FRICTION_LAW));
+        let mut n = 0;
+        for p in Param::all(MAX_PULLEYS) {
+            let r = p.declared();
+            assert!(
+                r.contains(p.start()),
+                "{p}: {} not {}",
+                p.start(),
+                r.describe()
+            );
+            n += 1;
+        }
+        assert!(n > 20 * MAX_PULLEYS, "{n} parameters");
+        DriveParams::default()
+            .validate()
+            .expect("the default drive is valid");
     }
 
     #[test]

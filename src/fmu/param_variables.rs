@@ -6,8 +6,12 @@
 // `modelDescription/modelDescription.xml`
 // * `Param::declared()` for the core: each id's range and unit (numbers only,
 //   so the core learns no variable names);
-// * `var_of` for `src/fmu/names.rs`: each id's variable.
-// Both are `match`es without a wildcard: a `Param` missing here does not compile.
+// * `Param::start()` for the core: each id's start value, the defaults of
+//   `DriveParams::default()` (and the `START_*` constants: the start values of
+//   the coded parameters below, decoded);
+// * `var_of` for `src/fmu/names.rs`: each id's variable, and the decoding of
+//   the codes below.
+// The `match`es have no wildcard: a `Param` missing here does not compile.
 
 const PARAM_VARIABLES: &[(&str, &str)] = &[
     ("PulleyCount", "nPulleys"),
@@ -47,9 +51,11 @@ const PARAM_VARIABLES: &[(&str, &str)] = &[
     ("PulleyTorqueRamp", "pulley[#].torqueRamp"),
     ("PulleyOmegaRamp", "pulley[#].omegaRamp"),
     ("PulleyRampTime", "pulley[#].rampTime"),
+    ("PulleySpeedDriven", "pulley[#].speedDriven"),
     ("PulleyGrooveAngle", "pulley[#].grooveAngle"),
     ("PulleyBackSide", "pulley[#].backSide"),
     ("PulleyDecoupler", "pulley[#].decoupler"),
+    ("PulleyDecouplerClockwise", "pulley[#].decoupler.clockwise"),
     ("PulleyDecouplerStiffness", "pulley[#].decoupler.stiffness"),
     ("PulleyDecouplerDamping", "pulley[#].decoupler.damping"),
     ("PulleyRotorInertia", "pulley[#].rotor.inertia"),
@@ -60,4 +66,15 @@ const PARAM_VARIABLES: &[(&str, &str)] = &[
     ("PulleyArmStiffness", "pulley[#].arm.stiffness"),
     ("PulleyArmDamping", "pulley[#].arm.damping"),
     ("PulleyArmFriction", "pulley[#].arm.friction"),
+];
+
+// The Integer parameters whose values are codes: each code and the core's
+// value it stands for (paths as `src/belt/params.rs` and `src/fmu/names.rs`
+// name them). The core knows the values, only this list the codes.
+const PARAM_CODES: &[(&str, &[(i32, &str)])] = &[
+    (
+        "FrictionLaw",
+        &[(1, "FrictionLaw::Kubas2014"), (2, "FrictionLaw::Creep")],
+    ),
+    ("SolverMethod", &[(1, "Method::Rkf45"), (2, "Method::Rosenbrock")]),
 ];
