@@ -123,22 +123,32 @@ impl BeltDrive {
         let mut p = self.params.clone();
         // The Integer parameters that are codes and 1-based indices the
         // adapter decodes (enums, 0-based indices): their min/max are checked
-        // here, before decoding. The counts `nPulleys` and `belt.nBodies` are
-        // the core's to check (`params::count`, their declared range), and
-        // they are converted through that check: a count outside its range
-        // cannot become a list of pulley slots. The Real parameters go to
+        // here, before decoding. The counts (`nPulleys`, `belt.nBodies`,
+        // `friction.zoneBodies`, `solver.maxSteps`, `contact.points`) are the
+        // core's to check (`params::count`, their declared range), and they
+        // are converted through that check: a count outside its range cannot
+        // become a list of pulley slots or a negative size. The Real parameters go to
         // the core as they are: `DriveParams::validate` checks their declared
         // ranges (the same table, `Param::declared`), for FMU and library
         // users alike.
-        let used = params::count(Param::PulleyCount, i.n_pulleys.into())
-            .map_err(|e| names::render_error(&e))?;
-        let n_bodies = params::count(Param::BeltBodies, i.n_bodies.into())
-            .map_err(|e| names::render_error(&e))?;
+        let count = |p, n: i32| params::count(p, n.into()).map_err(|e| names::render_error(&e));
+        let used = count(Param::PulleyCount, i.n_pulleys)?;
+        let n_bodies = count(Param::BeltBodies, i.n_bodies)?;
+        let zone_bodies = count(Param::FrictionZoneBodies, i.zone_bodies)?;
+        let max_steps = count(Param::SolverMaxSteps, i.max_steps)?;
+        let contact_points = count(Param::ContactPoints, i.contact_points)?;
         let mut ints = i.clone();
         for v in VARIABLES.iter().filter(|v| {
             v.ty == VarType::Integer
                 && (v.min.is_some() || v.max.is_some())
-                && !matches!(v.var, Var::NPulleys | Var::BeltNBodies)
+                && !matches!(
+                    v.var,
+                    Var::NPulleys
+                        | Var::BeltNBodies
+                        | Var::FrictionZoneBodies
+                        | Var::SolverMaxSteps
+                        | Var::ContactPoints
+                )
         }) {
             if let Some(&mut x) = int_slot(&mut ints, v) {
                 v.check_range(f64::from(x))?;
@@ -155,14 +165,9 @@ impl BeltDrive {
             range_error("friction.law", "1 (kubas2014) or 2 (creep)", i.friction_law)
         })?;
         p.friction.zone_start = (i.zone_start - 1) as usize;
-        p.friction.zone_bodies = i.zone_bodies as usize;
-        if i.probe_body > i.n_bodies {
-            return Err(range_error(
-                "probe.body",
-                &format!("in 1..={} or 0 (chosen automatically)", i.n_bodies),
-                i.probe_body,
-            ));
-        }
+        p.friction.zone_bodies = zone_bodies;
+        // 0 = chosen automatically; the upper bound (the body count) is the
+        // core's rule
         p.probe_body = match i.probe_body {
             0 => PROBE_AUTO,
             b => (b - 1) as usize,
@@ -174,8 +179,8 @@ impl BeltDrive {
                 i.method,
             )
         })?;
-        p.solver.max_steps = i.max_steps as u64;
-        p.contact.points = i.contact_points as usize;
+        p.solver.max_steps = max_steps as u64;
+        p.contact.points = contact_points;
         p.validate().map_err(|e| names::render_error(&e))?;
         Ok(p)
     }
@@ -596,10 +601,22 @@ mod tests {
             "friction.zoneBodies must be >= 0 (got -1)"
         );
         let mut m = BeltDrive::new();
+        m.set_integer(info(Var::ContactPoints), 6).unwrap();
+        assert_eq!(
+            m.drive_params().unwrap_err(),
+            "contact.points must be in 1..=5 (got 6)"
+        );
+        let mut m = BeltDrive::new();
+        m.set_integer(info(Var::SolverMaxSteps), 0).unwrap();
+        assert_eq!(
+            m.drive_params().unwrap_err(),
+            "solver.maxSteps must be >= 1 (got 0)"
+        );
+        let mut m = BeltDrive::new();
         m.set_integer(info(Var::ProbeBody), 151).unwrap();
         assert_eq!(
             m.drive_params().unwrap_err(),
-            "probe.body must be in 1..=150 or 0 (chosen automatically) (got 151)"
+            "probe.body must be in 1..=150 or 0 (chosen automatically; got 151)"
         );
     }
 
