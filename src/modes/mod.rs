@@ -521,23 +521,3 @@ pub fn classify(
     }
     (best.0, share)
 }
-
-/// Body-passing rate of the running belt at the linearisation state [bodies
-/// per second], signed: positive when the bodies move towards increasing
-/// index (body i takes the place of body i + 1).
-pub fn body_rate(lin: &Linearisation) -> f64 {
-    let n = lin.n;
-    let (mut speed, mut pitch, mut dir) = (0.0, 0.0, 0.0);
-    for i in 0..n {
-        let k = (i + 1) % n;
-        let d = [
-            lin.y[lin.body(k, 0)] - lin.y[lin.body(i, 0)],
-            lin.y[lin.body(k, 1)] - lin.y[lin.body(i, 1)],
-        ];
-        let v = [lin.y[lin.body(i, 3)], lin.y[lin.body(i, 4)]];
-        speed += v[0].hypot(v[1]);
-        pitch += d[0].hypot(d[1]);
-        dir += v[0] * d[0] + v[1] * d[1];
-    }
-    dir.signum() * speed / pitch
-}
