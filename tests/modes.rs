@@ -220,9 +220,10 @@ fn running_floquet(p: &DriveParams) -> (Modes, Vec<f64>, f64) {
 /// (sorted: the labels of running modes are not reliable, docs/modes.md).
 /// Tolerance 5 % (the figure): the 2 % of the discrete boundary (at
 /// rest, above) and the tension's body-passing ripple (the law takes each
-/// span's mid-element tension at the start of the period). Measured: 14.299
-/// and 14.399 Hz against 14.68 and 15.00 Hz (-2.6 %, -4.0 %; T = 112.5 and
-/// 115.6 N, v = 6.99 m/s).
+/// span's mid-element tension averaged over the period: it ripples between
+/// about 102 and 116 N within one period, and taken at one instant it put
+/// the law up to 5 % off). Measured: 14.299 and 14.399 Hz against 14.057 and
+/// 14.111 Hz (+1.7 %, +2.0 %; T = 106.45 and 106.97 N, v = 6.99 m/s).
 ///
 /// The analysis must also leave no oscillating mode below 0.8 f_1: the
 /// frozen-time analysis gave spurious slow modes there (0.6 Hz) from the

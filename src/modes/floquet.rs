@@ -72,10 +72,13 @@ pub struct Orbit {
     /// fastest pulley speed): of the first period of each extrapolation of
     /// [`settle`], then of the period analysed (the last).
     pub defects: Vec<f64>,
-    /// Tension of the middle element of every free span at the start of
-    /// the analysed period [N], span k from pulley k to pulley k+1.
+    /// Tension of the middle element of every free span averaged over the
+    /// analysed period (trapezoidal rule over its substeps) [N], span k
+    /// from pulley k to pulley k+1: the tension ripples with the bodies'
+    /// passage, so one instant is not the span's steady tension.
     pub span_tension: Vec<f64>,
-    /// Mean speed of the belt bodies at the start [m/s].
+    /// Mean speed of the belt bodies, averaged over the period like the
+    /// tensions [m/s].
     pub belt_speed: f64,
     /// Time at the start of the analysed period [s].
     pub time: f64,
@@ -137,6 +140,9 @@ struct Monodromy {
     lin0: Linearisation,
     /// Phi(P), unshifted.
     phi: Mat<f64>,
+    /// Span tensions and belt speed averaged over the period ([`Orbit`]).
+    span_tension: Vec<f64>,
+    belt_speed: f64,
 }
 
 fn monodromy(drive: &mut Drive, period: f64, substeps: usize) -> Result<Monodromy, String> {
@@ -148,8 +154,16 @@ fn monodromy(drive: &mut Drive, period: f64, substeps: usize) -> Result<Monodrom
     let mut phi = Mat::<f64>::identity(dim, dim);
     // (1 - theta) h J_k, sparse
     let mut explicit = sparse(&lin0, (1.0 - theta) * h, 0.0)?;
+    // trapezoidal means over the period: half weight at both ends
+    let (mut tension, mut speed) = adapter::span_tensions_and_speed(drive);
+    tension.iter_mut().for_each(|t| *t *= 0.5);
+    speed *= 0.5;
     for s in 1..=substeps {
         adapter::run_to(drive, t0 + s as f64 * h)?;
+        let (t, v) = adapter::span_tensions_and_speed(drive);
+        let w = if s == substeps { 0.5 } else { 1.0 };
+        tension.iter_mut().zip(&t).for_each(|(a, b)| *a += w * b);
+        speed += w * v;
         let lin = adapter::linearise(drive);
         // (I - theta h J_{k+1}) Phi_{k+1} = (I + (1 - theta) h J_k) Phi_k
         let mut rhs = phi.clone();
@@ -181,7 +195,14 @@ fn monodromy(drive: &mut Drive, period: f64, substeps: usize) -> Result<Monodrom
         phi = rhs;
         explicit = sparse(&lin, (1.0 - theta) * h, 0.0)?;
     }
-    Ok(Monodromy { lin0, phi })
+    let n = substeps as f64;
+    tension.iter_mut().for_each(|t| *t /= n);
+    Ok(Monodromy {
+        lin0,
+        phi,
+        span_tension: tension,
+        belt_speed: speed / n,
+    })
 }
 
 /// Where each state goes under the one-body shift S: the body in slot i
@@ -448,7 +469,6 @@ pub fn floquet(run: &Drive, opts: &Options, substeps: usize) -> Result<Modes, St
     let to = shift_map(&lin, dir);
     let y0 = drive.state().to_vec();
     let t0 = drive.time();
-    let (span_tension, belt_speed) = adapter::span_tensions_and_speed(drive);
     let mono = monodromy(drive, period, substeps)?;
     let r = residual(&lin, &to, &y0, drive.state());
     defects.push(scaled_max(&r, &scales(&lin)));
@@ -465,8 +485,8 @@ pub fn floquet(run: &Drive, opts: &Options, substeps: usize) -> Result<Modes, St
     out.orbit = Some(Orbit {
         period,
         defects,
-        span_tension,
-        belt_speed,
+        span_tension: mono.span_tension.clone(),
+        belt_speed: mono.belt_speed,
         time: t0,
     });
     Ok(out)
