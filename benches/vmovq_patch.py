@@ -16,6 +16,7 @@ outputs as the original (docs/benchmarks.md does).
 Usage: python3 benches/vmovq_patch.py BINARY COPY
 """
 
+import os
 import sys
 
 data = bytearray(open(sys.argv[1], "rb").read())
@@ -42,4 +43,6 @@ while i >= 0:
         count += 1
     i = data.find(b"\xc5\x79\xd6", i + 1)
 open(sys.argv[2], "wb").write(data)
+# the copy runs like the original (valgrind needs the execute bit)
+os.chmod(sys.argv[2], os.stat(sys.argv[1]).st_mode & 0o777)
 print(f"{count} pairs rewritten")
