@@ -704,22 +704,8 @@ impl BeltSystem {
                 b.tq[j] = RowVector3::new(-r * cp.fric_x[0], -r * cp.fric_x[1], 0.0);
                 b.tv[j] = RowVector3::new(-r * cp.fric_v[0], -r * cp.fric_v[1], 0.0);
                 b.tz[j] = -r * cp.fric_z;
-                b.hq[j] = Matrix2x3::new(
-                    -cp.f_x[(0, 0)],
-                    -cp.f_x[(0, 1)],
-                    0.0,
-                    -cp.f_x[(1, 0)],
-                    -cp.f_x[(1, 1)],
-                    0.0,
-                );
-                b.hv[j] = Matrix2x3::new(
-                    -cp.f_v[(0, 0)],
-                    -cp.f_v[(0, 1)],
-                    0.0,
-                    -cp.f_v[(1, 0)],
-                    -cp.f_v[(1, 1)],
-                    0.0,
-                );
+                b.hq[j] = hub_row(&cp.f_x);
+                b.hv[j] = hub_row(&cp.f_v);
                 b.hz[j] = -cp.fric_z * tv2;
                 if free {
                     jac.tw[j] += -r * cp.fric_w;
@@ -1017,6 +1003,16 @@ impl BeltSystem {
             }
         }
     }
+}
+
+/// Hub-force impulse row of a centre contact: minus the contact force's
+/// partials in (x, y) (or (vx, vy)), and no body-angle column (the centre
+/// contact exerts no moment on the body).
+#[inline(always)]
+fn hub_row(partials: &Matrix2<f64>) -> Matrix2x3<f64> {
+    let mut row = Matrix2x3::zeros();
+    row.fixed_view_mut::<2, 2>(0, 0).copy_from(&-partials);
+    row
 }
 
 #[cfg(test)]
