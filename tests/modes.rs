@@ -785,7 +785,7 @@ fn sign_changes(x: &[f64], dt: f64) -> Vec<f64> {
 ///   RKF45 2e-5, the stiff method at relTol 1e-4 3.7e-3). The bound is two
 ///   orders below what the centre contact leaves: there RKF45 keeps the
 ///   energy (1.04 of the kick's after 0.1 ms) and the stiff method damps it
-///   numerically in its first two steps (0.07), so with the centre contact
+///   numerically in its first steps (0.10), so with the centre contact
 ///   the two methods do not treat this mode alike.
 #[test]
 fn wrap_pitching_is_the_closed_form_with_both_integrators() {
