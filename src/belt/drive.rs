@@ -87,13 +87,13 @@ impl StiffSystem for BeltSystem {
     }
 }
 
-/// The integrator of a drive, chosen by `solver.method`.
+/// The integrator of a drive, chosen by [`SolverParams::method`](super::params::SolverParams::method).
 #[derive(Clone, Debug, PartialEq)]
 #[allow(clippy::large_enum_variant)] // one per drive: its size does not matter
 pub enum Integrator {
-    /// Runge-Kutta-Fehlberg 4(5) (`solver.method` 1).
+    /// Runge-Kutta-Fehlberg 4(5) ([`Method::Rkf45`]).
     Rkf45(Rkf45),
-    /// The stiff Rosenbrock-W method (`solver.method` 2).
+    /// The stiff Rosenbrock-W method ([`Method::Rosenbrock`]).
     Rosenbrock(Rosenbrock<BeltSystem>),
 }
 

@@ -307,7 +307,7 @@ pub fn quadrature(points: usize) -> &'static [(f64, f64)] {
         3 => &G3,
         4 => &G4,
         5 => &G5,
-        _ => panic!("contact.points = {points} outside 1..={MAX_POINTS}"),
+        _ => panic!("{points} contact points outside 1..={MAX_POINTS}"),
     }
 }
 
