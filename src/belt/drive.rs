@@ -354,7 +354,7 @@ impl Recorder for OutputRecorder<'_> {
 /// it got.
 fn relax_into_equilibrium(sys: &BeltSystem, ws: &mut Workspace, y: &mut [f64], max_steps: u64) {
     // Contact mode of one body: stiffness dN/dp at the typical penetration.
-    let k_contact = sys.contact.c2 + 2.0 * sys.contact.c1 * TUNING.relax_penetration;
+    let k_contact = sys.contact.stiffness(TUNING.relax_penetration);
     // Friction off, the pulleys (and a decoupler's rotor, a tensioner's
     // arm) held at rest.
     let relax = sys.with_relaxation(Relaxation {
