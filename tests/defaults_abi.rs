@@ -1,8 +1,8 @@
 //! Defaults that work for any drive, through the C ABI (the built library
 //! via dlopen): a drive with fewer bodies than the paper's initialises with
 //! the default probe (chosen automatically and logged); refusals name the
-//! parameter that is actually wrong (a radius typed in millimetres, a
-//! back-side idler without its flag); the belt's losses are their own
+//! parameter that is actually wrong (a radius or a centre distance typed in
+//! millimetres, a back-side idler without its flag); the belt's losses are their own
 //! output, never negative, and close the energy balance of the four-pulley
 //! accessory drive under a pulsating crank.
 #![cfg(unix)]
@@ -107,6 +107,56 @@ fn pulley_and_body_counts_are_refused_by_name() {
     }
 }
 
+/// The body numbers (`friction.zoneStart`, `probe.body`: 1-based, probe 0 =
+/// chosen automatically) and the codes (`friction.law`, `solver.method`) as
+/// the core and the model description state them: a number outside its
+/// declared range or above the body count is refused naming the variable, a
+/// value that is no code with the codes' meanings from the variable's
+/// description; the last body is accepted and probed.
+#[test]
+fn body_numbers_and_codes_are_refused_by_name() {
+    let fmi = Fmi::load();
+    for (ints, needle) in [
+        (vec![("probe.body", -1)], "probe.body must be >= 0 (got -1)"),
+        (
+            vec![("probe.body", 151)],
+            "probe.body must be in 1..=150 or 0 (chosen automatically; got 151)",
+        ),
+        (
+            vec![("friction.zoneStart", 0), ("friction.zoneBodies", 10)],
+            "friction.zoneStart must be >= 1 (got 0)",
+        ),
+        (
+            vec![("friction.zoneStart", 151), ("friction.zoneBodies", 10)],
+            "friction.zoneStart must be in 1..=150 (got 151)",
+        ),
+        (
+            vec![("friction.law", 3)],
+            "friction.law must be one of its codes (got 3): Friction law: 1 = kubas2014",
+        ),
+        (
+            vec![("solver.method", 0)],
+            "solver.method must be one of its codes (got 0): Integrator: 1 = RKF45",
+        ),
+    ] {
+        let (i, s) = init(&fmi, &ints, &[], &[]);
+        i.assert_refused(s, needle);
+    }
+    // the last body: accepted, no note on an automatic choice, and the
+    // probe reports it (on the belt: a tension, a position on the loop)
+    let (i, s) = init(&fmi, &[("probe.body", 150)], &[], &[]);
+    assert_eq!(s, OK, "{:?}", i.log.borrow());
+    assert!(!i.logged(OK, "probe.body = 0"), "{:?}", i.log.borrow());
+    let last = i.get(&["probe.x", "probe.y", "probe.sdeForce"]);
+    let (j, s) = init(&fmi, &[("probe.body", 1)], &[], &[]);
+    assert_eq!(s, OK, "{:?}", j.log.borrow());
+    let first = j.get(&["probe.x", "probe.y", "probe.sdeForce"]);
+    // neighbours on the closed loop: one body length (8 mm) apart
+    let gap = (last[0] - first[0]).hypot(last[1] - first[1]);
+    assert!((0.004..0.012).contains(&gap), "{last:?} {first:?}");
+    assert!(last[2] > 0.0 && first[2] > 0.0, "{last:?} {first:?}");
+}
+
 /// A radius typed in millimetres is refused naming the radius and the value
 /// in metres, not the other pulley's position.
 #[test]
@@ -132,6 +182,27 @@ fn radius_in_millimetres_names_the_radius() {
     // pulleys that merely overlap (comparable radii) name the position
     let (i, s) = init(&fmi, &[], &[("pulley[2].x", 0.05)], &[]);
     i.assert_refused(s, "pulley[2].x: pulley[2] overlaps pulley[1]");
+}
+
+/// A centre distance typed in millimetres (the paper's 0.515 m as 515) makes
+/// a belt of a kilometre that no allowed mesh resolves on 27 mm pulleys: the
+/// refusal names the position and the value in metres, not the body count
+/// (which would have to be 76 309, above the 2000 allowed). A long drive
+/// that read in millimetres would not work either (40 m: the pulleys would
+/// overlap) keeps the body-count refusal.
+#[test]
+fn centre_distance_in_millimetres_names_the_position() {
+    let fmi = Fmi::load();
+    let (i, s) = init(&fmi, &[], &[("pulley[2].x", 515.0)], &[]);
+    i.assert_refused(s, "pulley[2].x: 515 m makes a belt of 1030.2 m");
+    assert!(i.logged(ERROR, "set 0.515"), "{:?}", i.log.borrow());
+    let (i, s) = init(&fmi, &[], &[("pulley[2].x", 40.0)], &[]);
+    i.assert_refused(s, "belt.nBodies: 150 bodies of");
+    assert!(
+        i.logged(ERROR, "use belt.nBodies >= "),
+        "{:?}",
+        i.log.borrow()
+    );
 }
 
 /// The accessory drive's back-side idler (pulley 4) with `backSide` left

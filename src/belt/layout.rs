@@ -14,7 +14,7 @@
 use super::elements::contact::{resting_force, ContactLaw};
 use super::model::wrap_angle;
 use super::param_id::{msg, Param, Part};
-use super::params::{param_error, DriveParams, ParamError};
+use super::params::{param_error, DriveParams, ParamError, MAX_BODIES};
 use std::f64::consts::TAU;
 
 /// A free span: the common tangent from one pulley to the next.
@@ -89,18 +89,6 @@ pub struct Layout {
 
 fn left_normal(a: f64) -> [f64; 2] {
     [-a.sin(), a.cos()]
-}
-
-/// Positive root of c1 p^2 + c2 p = n (the equilibrium penetration, eq. 9).
-pub fn penetration_for_force(c1: f64, c2: f64, n: f64) -> f64 {
-    if n <= 0.0 {
-        0.0
-    } else if c1 == 0.0 {
-        n / c2
-    } else {
-        // Stable form of (-c2 + sqrt(c2^2 + 4 c1 n)) / (2 c1).
-        2.0 * n / (c2 + (c2 * c2 + 4.0 * c1 * n).sqrt())
-    }
 }
 
 fn dist_point_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
@@ -277,6 +265,36 @@ fn check_spans(params: &DriveParams, spans: &[Span]) -> Result<(), ParamError> {
     Ok(())
 }
 
+/// The refusal of a drive whose pulley centres look typed in millimetres:
+/// read as millimetres, every centre coordinate of 1 m or more gives a drive
+/// the mesh resolves. Names the largest coordinate; `None` if there is none
+/// or the drive would still be refused.
+fn millimetre_positions(params: &DriveParams, path_length: f64) -> Option<ParamError> {
+    let mut scaled = params.clone();
+    let mut largest: Option<(Param, f64)> = None;
+    for (j, q) in scaled.pulleys.iter_mut().enumerate() {
+        for (id, v) in [(Param::PulleyX(j), &mut q.x), (Param::PulleyY(j), &mut q.y)] {
+            if v.abs() >= 1.0 {
+                if largest.is_none_or(|(_, big)| v.abs() > big.abs()) {
+                    largest = Some((id, *v));
+                }
+                *v *= 1e-3;
+            }
+        }
+    }
+    let (id, v) = largest?;
+    Layout::build(&scaled, false).ok()?;
+    Some(param_error(
+        id,
+        msg![format!(
+            "{v} m makes a belt of {path_length:.1} m, which no mesh of at most {MAX_BODIES} bodies \
+             resolves on these pulleys; positions are in metres: if {v} was meant in millimetres, \
+             set {}",
+            v * 1e-3
+        )],
+    ))
+}
+
 impl Layout {
     /// Builds the belt path and the mounted belt. `params` must have passed
     /// [`DriveParams::validate`].
@@ -367,6 +385,19 @@ impl Layout {
             if !resolved {
                 let n = params.belt.n_bodies;
                 let r = params.pulleys[w.pulley].radius;
+                // Longest body that meets both conditions on this wrap.
+                let l_max = r * (w.angle / 3.0).min(0.5);
+                let needed = (path_length / l_max).ceil();
+                // More bodies than allowed: a belt far longer than its
+                // pulleys are wide, typically centres typed in millimetres.
+                // If the drive with every coordinate of 1 m or more read as
+                // millimetres is one this mesh resolves, the largest of them
+                // is named.
+                if diagnose && needed > MAX_BODIES as f64 {
+                    if let Some(e) = millimetre_positions(params, path_length) {
+                        return Err(e);
+                    }
+                }
                 // A small wrap may be an idler on the wrong side of the belt:
                 // if the other wrap side gives a drive this mesh resolves,
                 // the flag is the likely mistake.
@@ -405,8 +436,6 @@ impl Layout {
                         ));
                     }
                 }
-                // Longest body that meets both conditions on this wrap.
-                let l_max = r * (w.angle / 3.0).min(0.5);
                 return Err(param_error(
                     Param::BeltBodies,
                     msg![
@@ -422,7 +451,7 @@ impl Layout {
                             r * 1e3,
                         ),
                         Param::BeltBodies,
-                        format!(" >= {}", (path_length / l_max).ceil() as usize),
+                        format!(" >= {}", needed as usize),
                     ],
                 ));
             }
@@ -485,6 +514,8 @@ fn bodies_on_path(params: &DriveParams, spans: &[Span], wraps: &mut [Wrap], l: f
     let b = &params.belt;
     let strain = b.preload / b.ea;
     let (c1, c2) = (params.contact.c1 * l, params.contact.c2 * l);
+    // the contact law of one body (per-length stiffnesses times l)
+    let law = ContactLaw { c1, c2, b: 0.0 };
     let mut count: f64 = spans.iter().map(|s| s.length / (l * (1.0 + strain))).sum();
     for w in wraps.iter_mut() {
         let r = params.pulleys[w.pulley].radius;
@@ -494,13 +525,12 @@ fn bodies_on_path(params: &DriveParams, spans: &[Span], wraps: &mut [Wrap], l: f
             alpha = arc_pitch_angle(r - p, l, strain);
             // Radial resultant of the two neighbouring SDE forces (eq. 9 in equilibrium).
             let radial = 2.0 * b.preload * (0.5 * alpha).sin();
-            p = penetration_for_force(c1, c2, radial).min(0.5 * r);
+            p = law.penetration_for(radial).min(0.5 * r);
             if params.contact.points > 1 {
                 // contact along the body: the centre sinks until the points'
                 // radial resultant carries the load (elements::contact,
                 // `resting_force`, monotonic in p), by bisection from the
                 // centre contact's penetration (the outer points carry less)
-                let law = ContactLaw { c1, c2, b: 0.0 };
                 let points = params.contact.points;
                 let (mut lo, mut hi) = (p, 0.5 * r);
                 for _ in 0..200 {
