@@ -222,8 +222,8 @@ fn running_floquet(p: &DriveParams) -> (Modes, Vec<f64>, f64) {
 /// rest, above) and the tension's body-passing ripple (the law takes each
 /// span's mid-element tension averaged over the period: it ripples between
 /// about 102 and 116 N within one period, and taken at one instant it put
-/// the law up to 5 % off). Measured: 14.299 and 14.399 Hz against 14.057 and
-/// 14.111 Hz (+1.7 %, +2.0 %; T = 106.45 and 106.97 N, v = 6.99 m/s).
+/// the law up to 5 % off). Measured: 14.299 and 14.403 Hz against 14.061 and
+/// 14.112 Hz (+1.7 %, +2.1 %; T = 106.49 and 106.97 N, v = 6.99 m/s).
 ///
 /// The analysis must also leave no oscillating mode below 0.8 f_1: the
 /// frozen-time analysis gave spurious slow modes there (0.6 Hz) from the
@@ -276,13 +276,68 @@ fn running_span_mode_is_the_axially_moving_strings() {
     assert!(slow.is_empty(), "modes below 0.8 f1: {slow:?} Hz");
 }
 
+/// Each span's first transverse mode is labelled with its own span, on a
+/// drive whose spans are clearly unequal: the heavy belt (0.5 kg/m, 100 N)
+/// round three 50 mm pulleys at the corners of a right triangle (crank at
+/// the right angle, speed-driven at 140 rad/s; the others free and
+/// unloaded), spans 0.4, 0.5 and 0.3 m, so their moving strings lie 20-40 %
+/// apart (on the two-pulley drive the two spans' f_1 are within 0.4 % of
+/// each other and the pair's eigenvectors mix). For each span k the lowest
+/// lightly damped (zeta < 0.1) mode labelled `span k transverse` must be
+/// within 5 % of that span's moving string at its period-mean tension (the
+/// tolerance of the moving-string check above). Measured: 15.588, 12.668
+/// and 20.949 Hz against 15.510, 12.525 and 20.787 Hz (+0.5, +1.1, +0.8 %;
+/// T = 120.7, 122.2, 121.5 N, v = 6.98 m/s), 77-86 % of each mode's energy
+/// in its span.
+#[test]
+fn running_span_modes_carry_their_own_span() {
+    let mut p = heavy_running(120, Method::Rosenbrock);
+    let mut third = p.pulleys[1].clone();
+    (third.x, third.y) = (0.0, 0.3);
+    p.pulleys[1].y = 0.0;
+    p.pulleys[0].y = 0.0;
+    p.pulleys.push(third);
+    let spans = [0.4, 0.5, 0.3];
+    let (m, tensions, v) = running_floquet(&p);
+    for x in m.modes.iter().take(16) {
+        eprintln!(
+            "{:8.3} Hz, zeta {:+.1e}: {} ({:.0} % of the energy)",
+            x.frequency_hz,
+            x.damping_ratio,
+            x.part.describe(),
+            100.0 * x.share
+        );
+    }
+    for (k, (&t, &l)) in tensions.iter().zip(&spans).enumerate() {
+        let rho = p.belt.mass_per_length / (1.0 + t / p.belt.ea);
+        let c = (t / rho).sqrt();
+        let law = (c * c - v * v) / (2.0 * l * c);
+        let mode = m
+            .modes
+            .iter()
+            .find(|x| x.part == Part::SpanTransverse(k + 1) && x.damping_ratio < 0.1)
+            .unwrap_or_else(|| panic!("no mode labelled span {}", k + 1));
+        let err = mode.frequency_hz / law - 1.0;
+        eprintln!(
+            "span {}: T {t:.1} N, moving string {law:.3} Hz; labelled mode {:.3} Hz ({:+.2} %), \
+             zeta {:.1e}, {:.0} % of the energy",
+            k + 1,
+            mode.frequency_hz,
+            100.0 * err,
+            mode.damping_ratio,
+            100.0 * mode.share
+        );
+        assert!(err.abs() < 0.05, "span {}: {err:+.4}", k + 1);
+    }
+}
+
 /// The running modes do not depend on the integrator: the heavy-belt drive
 /// of the moving-string check run up by RKF45 and by the stiff method
 /// (solver.method 1 and 2), then analysed by the Floquet analysis, which
 /// settles each run onto its periodic orbit with the same method at relTol
 /// 1e-6 before linearising: the two lowest modes (both spans' f_1) within
-/// 1 %. Measured: 14.295 / 14.299 Hz (-0.03 %) and 14.419 / 14.399 Hz
-/// (+0.14 %), orbits periodic within 7.1e-4 and 1.2e-3. The bound
+/// 1 %. Measured: 14.281 / 14.299 Hz (-0.12 %) and 14.452 / 14.403 Hz
+/// (+0.34 %), orbits periodic within 3.1e-4 and 3.3e-4. The bound
 /// covers the instant along the orbit at which each analysed period starts
 /// (the body-passing phase differs between the runs; the Jacobian is
 /// sampled at 64 instants of it).
