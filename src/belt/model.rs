@@ -1246,9 +1246,20 @@ impl BeltSystem {
     /// given): a contact point of the body inside the pulley's contact
     /// radius (the centre with one point). The test of [`Self::after_step`]
     /// (and of the modal analysis' contact regions).
+    #[inline]
     pub fn touching(&self, i: usize, y: &[f64], centres: &[[f64; 2]]) -> Option<usize> {
         let o = BODY_DOF * i;
         let (x, yy) = (y[o], y[o + 1]);
+        if self.points == 1 {
+            // the centre: the test below with xi h = 0
+            return self.pulleys[..self.np]
+                .iter()
+                .zip(centres)
+                .position(|(pc, c)| {
+                    let (rx, ry) = (x - c[0], yy - c[1]);
+                    rx * rx + ry * ry < pc.radii[0] * pc.radii[0]
+                });
+        }
         let (hx, hy) = if self.points > 1 {
             let (s, c) = y[o + 2].sin_cos();
             (self.half_length * c, self.half_length * s)
