@@ -107,6 +107,56 @@ fn pulley_and_body_counts_are_refused_by_name() {
     }
 }
 
+/// The body numbers (`friction.zoneStart`, `probe.body`: 1-based, probe 0 =
+/// chosen automatically) and the codes (`friction.law`, `solver.method`) as
+/// the core and the model description state them: a number outside its
+/// declared range or above the body count is refused naming the variable, a
+/// value that is no code with the codes' meanings from the variable's
+/// description; the last body is accepted and probed.
+#[test]
+fn body_numbers_and_codes_are_refused_by_name() {
+    let fmi = Fmi::load();
+    for (ints, needle) in [
+        (vec![("probe.body", -1)], "probe.body must be >= 0 (got -1)"),
+        (
+            vec![("probe.body", 151)],
+            "probe.body must be in 1..=150 or 0 (chosen automatically; got 151)",
+        ),
+        (
+            vec![("friction.zoneStart", 0), ("friction.zoneBodies", 10)],
+            "friction.zoneStart must be >= 1 (got 0)",
+        ),
+        (
+            vec![("friction.zoneStart", 151), ("friction.zoneBodies", 10)],
+            "friction.zoneStart must be in 1..=150 (got 151)",
+        ),
+        (
+            vec![("friction.law", 3)],
+            "friction.law must be one of its codes (got 3): Friction law: 1 = kubas2014",
+        ),
+        (
+            vec![("solver.method", 0)],
+            "solver.method must be one of its codes (got 0): Integrator: 1 = RKF45",
+        ),
+    ] {
+        let (i, s) = init(&fmi, &ints, &[], &[]);
+        i.assert_refused(s, needle);
+    }
+    // the last body: accepted, no note on an automatic choice, and the
+    // probe reports it (on the belt: a tension, a position on the loop)
+    let (i, s) = init(&fmi, &[("probe.body", 150)], &[], &[]);
+    assert_eq!(s, OK, "{:?}", i.log.borrow());
+    assert!(!i.logged(OK, "probe.body = 0"), "{:?}", i.log.borrow());
+    let last = i.get(&["probe.x", "probe.y", "probe.sdeForce"]);
+    let (j, s) = init(&fmi, &[("probe.body", 1)], &[], &[]);
+    assert_eq!(s, OK, "{:?}", j.log.borrow());
+    let first = j.get(&["probe.x", "probe.y", "probe.sdeForce"]);
+    // neighbours on the closed loop: one body length (8 mm) apart
+    let gap = (last[0] - first[0]).hypot(last[1] - first[1]);
+    assert!((0.004..0.012).contains(&gap), "{last:?} {first:?}");
+    assert!(last[2] > 0.0 && first[2] > 0.0, "{last:?} {first:?}");
+}
+
 /// A radius typed in millimetres is refused naming the radius and the value
 /// in metres, not the other pulley's position.
 #[test]

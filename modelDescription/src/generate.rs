@@ -399,6 +399,25 @@ pub fn param_tables(
         let (_, value) = values.iter().find(|(c, _)| *c == start).ok_or_else(|| {
             format!("coded parameter {id}: start value {start} of {pattern} is no code")
         })?;
+        // each code inside the declared range and explained by the
+        // variable's description (`1 = kubas2014`), which the FMU shows
+        // when it refuses a value that is no code
+        let bound = |b: &Option<String>| b.as_deref().and_then(|s| s.trim().parse::<i32>().ok());
+        for (c, _) in *values {
+            if bound(&v.min).is_some_and(|lo| *c < lo) || bound(&v.max).is_some_and(|hi| *c > hi) {
+                return Err(format!(
+                    "coded parameter {id}: code {c} is outside the declared range of {pattern} (line {})",
+                    v.line
+                ));
+            }
+            if !v.description.contains(&format!("{c} = ")) {
+                return Err(format!(
+                    "coded parameter {id}: the description of {pattern} does not explain code {c} \
+                     as \"{c} = ...\" (line {})",
+                    v.line
+                ));
+            }
+        }
         let ty = value
             .rsplit_once("::")
             .map(|(ty, _)| ty)
@@ -548,7 +567,7 @@ mod tests {
     <Range variable="p[1].r" min="exclusive"/><Range variable="p[2].r" min="exclusive"/>
   </ExclusiveBounds></Tool></VendorAnnotations>
   <ModelVariables>
-    <ScalarVariable name="n" valueReference="1" causality="parameter" variability="fixed">
+    <ScalarVariable name="n" valueReference="1" description="2 = two, 3 = three" causality="parameter" variability="fixed">
       <Integer start="2" min="2" max="6"/></ScalarVariable>
     <ScalarVariable name="p[1].r" valueReference="2" causality="parameter" variability="fixed">
       <Real declaredType="L" start="1" min="0"/></ScalarVariable>
@@ -624,6 +643,17 @@ mod tests {
         let codes: &[(&str, &[(i32, &str)])] = &[("Other", &[(2, "K::Two")])];
         let e = param_tables(&md, &ids, codes, "Id", "R").unwrap_err();
         assert!(e.contains("Other is not a parameter id"), "{e}");
+        // a code outside the declared range, a code the description does not
+        // explain
+        let codes: &[(&str, &[(i32, &str)])] = &[("Count", &[(2, "K::Two"), (7, "K::Seven")])];
+        let e = param_tables(&md, &ids, codes, "Id", "R").unwrap_err();
+        assert!(
+            e.contains("code 7 is outside the declared range of n"),
+            "{e}"
+        );
+        let codes: &[(&str, &[(i32, &str)])] = &[("Count", &[(2, "K::Two"), (4, "K::Four")])];
+        let e = param_tables(&md, &ids, codes, "Id", "R").unwrap_err();
+        assert!(e.contains("does not explain code 4"), "{e}");
         // a parameter without a start value
         let md = crate::parse(&TWO_SLOTS.replacen("start=\"2\" min=\"0\"", "min=\"0\"", 1));
         let e = param_tables(&md.unwrap(), &ids, &[], "Id", "R").unwrap_err();

@@ -87,13 +87,13 @@ impl StiffSystem for BeltSystem {
     }
 }
 
-/// The integrator of a drive, chosen by `solver.method`.
+/// The integrator of a drive, chosen by [`SolverParams::method`](super::params::SolverParams::method).
 #[derive(Clone, Debug, PartialEq)]
 #[allow(clippy::large_enum_variant)] // one per drive: its size does not matter
 pub enum Integrator {
-    /// Runge-Kutta-Fehlberg 4(5) (`solver.method` 1).
+    /// Runge-Kutta-Fehlberg 4(5) ([`Method::Rkf45`]).
     Rkf45(Rkf45),
-    /// The stiff Rosenbrock-W method (`solver.method` 2).
+    /// The stiff Rosenbrock-W method ([`Method::Rosenbrock`]).
     Rosenbrock(Rosenbrock<BeltSystem>),
 }
 
@@ -354,7 +354,7 @@ impl Recorder for OutputRecorder<'_> {
 /// it got.
 fn relax_into_equilibrium(sys: &BeltSystem, ws: &mut Workspace, y: &mut [f64], max_steps: u64) {
     // Contact mode of one body: stiffness dN/dp at the typical penetration.
-    let k_contact = sys.contact.c2 + 2.0 * sys.contact.c1 * TUNING.relax_penetration;
+    let k_contact = sys.contact.stiffness(TUNING.relax_penetration);
     // Friction off, the pulleys (and a decoupler's rotor, a tensioner's
     // arm) held at rest.
     let relax = sys.with_relaxation(Relaxation {

@@ -91,18 +91,6 @@ fn left_normal(a: f64) -> [f64; 2] {
     [-a.sin(), a.cos()]
 }
 
-/// Positive root of c1 p^2 + c2 p = n (the equilibrium penetration, eq. 9).
-pub fn penetration_for_force(c1: f64, c2: f64, n: f64) -> f64 {
-    if n <= 0.0 {
-        0.0
-    } else if c1 == 0.0 {
-        n / c2
-    } else {
-        // Stable form of (-c2 + sqrt(c2^2 + 4 c1 n)) / (2 c1).
-        2.0 * n / (c2 + (c2 * c2 + 4.0 * c1 * n).sqrt())
-    }
-}
-
 fn dist_point_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     let ab = [b[0] - a[0], b[1] - a[1]];
     let ap = [p[0] - a[0], p[1] - a[1]];
@@ -485,6 +473,8 @@ fn bodies_on_path(params: &DriveParams, spans: &[Span], wraps: &mut [Wrap], l: f
     let b = &params.belt;
     let strain = b.preload / b.ea;
     let (c1, c2) = (params.contact.c1 * l, params.contact.c2 * l);
+    // the contact law of one body (per-length stiffnesses times l)
+    let law = ContactLaw { c1, c2, b: 0.0 };
     let mut count: f64 = spans.iter().map(|s| s.length / (l * (1.0 + strain))).sum();
     for w in wraps.iter_mut() {
         let r = params.pulleys[w.pulley].radius;
@@ -494,13 +484,12 @@ fn bodies_on_path(params: &DriveParams, spans: &[Span], wraps: &mut [Wrap], l: f
             alpha = arc_pitch_angle(r - p, l, strain);
             // Radial resultant of the two neighbouring SDE forces (eq. 9 in equilibrium).
             let radial = 2.0 * b.preload * (0.5 * alpha).sin();
-            p = penetration_for_force(c1, c2, radial).min(0.5 * r);
+            p = law.penetration_for(radial).min(0.5 * r);
             if params.contact.points > 1 {
                 // contact along the body: the centre sinks until the points'
                 // radial resultant carries the load (elements::contact,
                 // `resting_force`, monotonic in p), by bisection from the
                 // centre contact's penetration (the outer points carry less)
-                let law = ContactLaw { c1, c2, b: 0.0 };
                 let points = params.contact.points;
                 let (mut lo, mut hi) = (p, 0.5 * r);
                 for _ in 0..200 {

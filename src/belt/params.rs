@@ -245,8 +245,7 @@ impl Default for FrictionParams {
             creep_max: Param::FrictionCreepMax.start(),
             creep_damping_time: Param::FrictionCreepDampingTime.start(),
             zone_factor: Param::FrictionZoneFactor.start(),
-            // the start value is 1-based
-            zone_start: Param::FrictionZoneStart.start() as usize - 1,
+            zone_start: start_body(Param::FrictionZoneStart),
             zone_bodies: Param::FrictionZoneBodies.start() as usize,
         }
     }
@@ -354,11 +353,7 @@ impl Default for DriveParams {
             friction: FrictionParams::default(),
             solver: SolverParams::default(),
             gravity: Param::Gravity.start(),
-            // the start value is 1-based, 0 the automatic choice
-            probe_body: match Param::ProbeBody.start() as usize {
-                0 => PROBE_AUTO,
-                b => b - 1,
-            },
+            probe_body: start_body(Param::ProbeBody),
         }
     }
 }
@@ -566,6 +561,27 @@ pub fn count(p: Param, n: i128) -> Result<usize, ParamError> {
         Ok(n) if inside => Ok(n),
         _ => Err(param_error(p, format!("must be {range} (got {n})"))),
     }
+}
+
+/// A body given by its number as users count the bodies (1-based, as the
+/// messages and the model description number them) as the 0-based index of
+/// the core, `p`'s declared range checked like a [`count`]'s; the number 0,
+/// where the range allows it (`probe_body`), is [`PROBE_AUTO`]. The one
+/// decoding of a body number: the defaults ([`DriveParams::default`]) and the
+/// FMU's Integer parameters go through it. The upper bound, the body count,
+/// is a rule of two parameters ([`DriveParams::validate`]).
+pub fn body_number(p: Param, n: i128) -> Result<usize, ParamError> {
+    Ok(match count(p, n)? {
+        0 => PROBE_AUTO,
+        b => b - 1,
+    })
+}
+
+/// A body number's start value in the model description, decoded
+/// ([`body_number`]).
+fn start_body(p: Param) -> usize {
+    body_number(p, p.start() as i128)
+        .expect("the model description's start values lie in their declared ranges")
 }
 
 /// `v` > 0 where the declared range starts at 0 inclusive because 0 is

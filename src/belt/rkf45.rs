@@ -107,9 +107,8 @@ impl PiControl {
     }
 }
 
-/// Floor on the remembered error: an exact step (err = 0) must not make the
-/// PI term blow up.
-const ERR_FLOOR: f64 = 1e-4;
+/// Floor on the remembered error (`SolverTuning::rkf45_error_floor`).
+const ERR_FLOOR: f64 = TUNING.rkf45_error_floor;
 
 impl Rkf45 {
     /// An integrator for `dim` states, first step `h0`, at most `max_steps` steps per call.

@@ -65,6 +65,19 @@ pub struct SolverTuning {
     pub rosenbrock_factor_min: f64,
     /// See `rosenbrock_safety`.
     pub rosenbrock_factor_max: f64,
+    /// Floor on the RKF45 PI controller's remembered error: an exact step
+    /// (err = 0) must not make its `(err_{n-1} / target)^beta2` term blow
+    /// up.
+    pub rkf45_error_floor: f64,
+    /// A trial step whose error is not finite (a force overflowed) is
+    /// retried with the step times this factor ...
+    pub non_finite_step_factor: f64,
+    /// ... at most this many times in a row before the step fails.
+    pub non_finite_retries: u32,
+    /// Smallest step, in units of machine epsilon times the time (at least
+    /// 1e-3 s): below it the step cannot move the time and the advance
+    /// fails rather than loop.
+    pub min_step_eps: f64,
     /// Step-size increases below this factor are not taken, so that the
     /// factored iteration matrix (which depends on h) can be reused.
     pub keep_step_below: f64,
@@ -112,6 +125,10 @@ pub const TUNING: SolverTuning = SolverTuning {
     rkf45_target_error: 0.5,
     rkf45_factor_min: 0.2,
     rkf45_factor_max: 5.0,
+    rkf45_error_floor: 1e-4,
+    non_finite_step_factor: 0.25,
+    non_finite_retries: 40,
+    min_step_eps: 16.0,
     rosenbrock_safety: 0.9,
     rosenbrock_factor_min: 0.2,
     rosenbrock_factor_max: 4.0,

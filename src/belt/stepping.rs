@@ -3,6 +3,8 @@
 //! driver that steps to exactly a target time, carries the step size across
 //! calls, and restores the state when a call fails.
 
+use super::solver_params::TUNING;
+
 /// An ODE y' = f(t, y) with a discrete update after each accepted step.
 pub trait OdeSystem {
     /// Scratch of an evaluation of the right-hand side, owned by the
@@ -187,7 +189,7 @@ where
         // Clip the last step to land on t_end (also when only slightly shorter).
         let last = c.h >= remaining * (1.0 - 1e-12);
         let h = if last { remaining } else { c.h };
-        let h_min = 16.0 * f64::EPSILON * t.abs().max(t_end.abs()).max(1e-3);
+        let h_min = TUNING.min_step_eps * f64::EPSILON * t.abs().max(t_end.abs()).max(1e-3);
         if h < h_min && !last {
             return Err(StepFailure::StepTooSmall { t: *t, h });
         }
@@ -196,10 +198,10 @@ where
             non_finite += 1;
             method.control().stats.rejected += 1;
             method.rejected();
-            if non_finite > 40 {
+            if non_finite > TUNING.non_finite_retries {
                 return Err(StepFailure::NonFinite { t: *t });
             }
-            method.control().h = h * 0.25;
+            method.control().h = h * TUNING.non_finite_step_factor;
             continue;
         }
         non_finite = 0;

@@ -18,7 +18,7 @@ use crate::belt::param_id::Param;
 use crate::belt::params::{self, PulleyParams, MAX_PULLEYS, PROBE_AUTO};
 use crate::belt::{Drive, DriveParams, Inputs};
 use crate::fmi::{FmuModel, ModelDescription, StepError};
-use variables::{Start, Var, VarInfo, VarType, MODEL_DESCRIPTION, VARIABLES};
+use variables::{Start, Var, VarInfo, MODEL_DESCRIPTION, VARIABLES};
 
 /// Integer parameters as the user set them; checked against the ranges of
 /// the model description when the drive is built, so the message can name
@@ -48,8 +48,23 @@ pub struct BeltDrive {
     outputs: Option<Outputs>,
 }
 
-fn range_error(name: &str, allowed: &str, got: impl std::fmt::Display) -> String {
-    format!("{name} must be {allowed} (got {got})")
+/// The refusal of a coded Integer parameter whose value is no code: its
+/// name, the value and its description, which lists the codes (the build
+/// checks that every code is listed there).
+fn no_code(var: Var, code: i32) -> String {
+    let v = info(var);
+    format!(
+        "{} must be one of its codes (got {code}): {}",
+        v.name, v.description
+    )
+}
+
+/// The scalar variable `var` of the model description.
+fn info(var: Var) -> &'static VarInfo {
+    VARIABLES
+        .iter()
+        .find(|v| v.var == var)
+        .expect("every Var is a variable of the table")
 }
 
 /// The field behind a Real parameter (every pulley slot, used or not).
@@ -121,64 +136,40 @@ impl BeltDrive {
     pub fn drive_params(&self) -> Result<DriveParams, String> {
         let i = &self.ints;
         let mut p = self.params.clone();
-        // The Integer parameters that are codes and 1-based indices the
-        // adapter decodes (enums, 0-based indices): their min/max are checked
-        // here, before decoding. The counts (`nPulleys`, `belt.nBodies`,
-        // `friction.zoneBodies`, `solver.maxSteps`, `contact.points`) are the
-        // core's to check (`params::count`, their declared range), and they
-        // are converted through that check: a count outside its range cannot
-        // become a list of pulley slots or a negative size. The Real parameters go to
-        // the core as they are: `DriveParams::validate` checks their declared
-        // ranges (the same table, `Param::declared`), for FMU and library
-        // users alike.
-        let count = |p, n: i32| params::count(p, n.into()).map_err(|e| names::render_error(&e));
+        // The Integer parameters are converted by the core, which checks
+        // their declared ranges: the counts (`nPulleys`, `belt.nBodies`,
+        // `friction.zoneBodies`, `solver.maxSteps`, `contact.points`) by
+        // `params::count` (a count outside its range cannot become a list of
+        // pulley slots or a negative size), the body numbers
+        // (`friction.zoneStart`, `probe.body`, 0 = chosen automatically) by
+        // `params::body_number`. The adapter decodes only the FMI codes
+        // (`friction.law`, `solver.method`), with the codes listed once
+        // (`param_variables.rs`) and explained by the variable's description.
+        // The Real parameters go to the core as they are:
+        // `DriveParams::validate` checks their declared ranges (the same
+        // table, `Param::declared`), for FMU and library users alike.
+        let core = |e| names::render_error(&e);
+        let count = |p, n: i32| params::count(p, n.into()).map_err(core);
+        let body = |p, n: i32| params::body_number(p, n.into()).map_err(core);
         let used = count(Param::PulleyCount, i.n_pulleys)?;
         let n_bodies = count(Param::BeltBodies, i.n_bodies)?;
         let zone_bodies = count(Param::FrictionZoneBodies, i.zone_bodies)?;
         let max_steps = count(Param::SolverMaxSteps, i.max_steps)?;
         let contact_points = count(Param::ContactPoints, i.contact_points)?;
-        let mut ints = i.clone();
-        for v in VARIABLES.iter().filter(|v| {
-            v.ty == VarType::Integer
-                && (v.min.is_some() || v.max.is_some())
-                && !matches!(
-                    v.var,
-                    Var::NPulleys
-                        | Var::BeltNBodies
-                        | Var::FrictionZoneBodies
-                        | Var::SolverMaxSteps
-                        | Var::ContactPoints
-                )
-        }) {
-            if let Some(&mut x) = int_slot(&mut ints, v) {
-                v.check_range(f64::from(x))?;
-            }
-        }
         // The unused pulley slots keep their declared ranges too (importers
         // are shown them for every slot).
         for (j, q) in p.pulleys.iter().enumerate().skip(used) {
-            q.validate_ranges(j).map_err(|e| names::render_error(&e))?;
+            q.validate_ranges(j).map_err(core)?;
         }
         p.pulleys.truncate(used);
         p.belt.n_bodies = n_bodies;
-        p.friction.law = names::friction_law(i.friction_law).ok_or_else(|| {
-            range_error("friction.law", "1 (kubas2014) or 2 (creep)", i.friction_law)
-        })?;
-        p.friction.zone_start = (i.zone_start - 1) as usize;
+        p.friction.law = names::friction_law(i.friction_law)
+            .ok_or_else(|| no_code(Var::FrictionLaw, i.friction_law))?;
+        p.friction.zone_start = body(Param::FrictionZoneStart, i.zone_start)?;
         p.friction.zone_bodies = zone_bodies;
-        // 0 = chosen automatically; the upper bound (the body count) is the
-        // core's rule
-        p.probe_body = match i.probe_body {
-            0 => PROBE_AUTO,
-            b => (b - 1) as usize,
-        };
-        p.solver.method = names::method(i.method).ok_or_else(|| {
-            range_error(
-                "solver.method",
-                "1 (RKF45) or 2 (Rosenbrock-W, stiff)",
-                i.method,
-            )
-        })?;
+        p.probe_body = body(Param::ProbeBody, i.probe_body)?;
+        p.solver.method =
+            names::method(i.method).ok_or_else(|| no_code(Var::SolverMethod, i.method))?;
         p.solver.max_steps = max_steps as u64;
         p.contact.points = contact_points;
         p.validate().map_err(|e| names::render_error(&e))?;
@@ -513,14 +504,9 @@ impl FmuModel for BeltDrive {
 
 #[cfg(test)]
 mod tests {
-    use super::variables::{by_name, Causality};
+    use super::variables::{by_name, Causality, VarType};
     use super::*;
     use crate::belt::params::MAX_BODIES;
-
-    /// The scalar variable `var` of the model description.
-    fn info(var: Var) -> &'static VarInfo {
-        VARIABLES.iter().find(|v| v.var == var).unwrap()
-    }
 
     /// The ranges the model description shows importers are the core's.
     #[test]
@@ -617,6 +603,46 @@ mod tests {
         assert_eq!(
             m.drive_params().unwrap_err(),
             "probe.body must be in 1..=150 or 0 (chosen automatically; got 151)"
+        );
+        // the body numbers: 1-based, probe.body 0 the automatic choice
+        let mut m = BeltDrive::new();
+        m.set_integer(info(Var::ProbeBody), -1).unwrap();
+        assert_eq!(
+            m.drive_params().unwrap_err(),
+            "probe.body must be >= 0 (got -1)"
+        );
+        let mut m = BeltDrive::new();
+        m.set_integer(info(Var::FrictionZoneStart), 0).unwrap();
+        assert_eq!(
+            m.drive_params().unwrap_err(),
+            "friction.zoneStart must be >= 1 (got 0)"
+        );
+        m.set_integer(info(Var::FrictionZoneStart), 150).unwrap();
+        m.set_integer(info(Var::ProbeBody), 150).unwrap();
+        let p = m.drive_params().unwrap();
+        assert_eq!((p.friction.zone_start, p.probe_body), (149, 149));
+        m.set_integer(info(Var::ProbeBody), 0).unwrap();
+        assert_eq!(m.drive_params().unwrap().probe_body, PROBE_AUTO);
+        // a code outside the list is refused with the codes' meanings, as
+        // the model description states them
+        let mut m = BeltDrive::new();
+        m.set_integer(info(Var::FrictionLaw), 3).unwrap();
+        assert_eq!(
+            m.drive_params().unwrap_err(),
+            format!(
+                "friction.law must be one of its codes (got 3): {}",
+                info(Var::FrictionLaw).description
+            )
+        );
+        assert!(info(Var::FrictionLaw).description.contains("2 = creep"));
+        let mut m = BeltDrive::new();
+        m.set_integer(info(Var::SolverMethod), 0).unwrap();
+        let e = m.drive_params().unwrap_err();
+        assert!(
+            e.starts_with("solver.method must be one of its codes (got 0): ")
+                && e.contains("1 = RKF45")
+                && e.contains("2 = Rosenbrock-W"),
+            "{e}"
         );
     }
 

@@ -13,7 +13,13 @@
 //!    integration error alone leaves S y(P) - y(0) at a few 1e-2.
 //! 2. **Periodic orbit** ([`settle`]). The run-up leaves lightly damped
 //!    vibrations (span modes, the pulleys' rotation) that decay over
-//!    seconds. The states y_j = S^j y(t0 + j P) at [`SETTLE_PERIODS`]
+//!    seconds. Each period is timed by a Poincaré section: it ends when the
+//!    body that takes a reference body's place (on the crank's wrap)
+//!    reaches the line from the pulley centre through where that body was,
+//!    so P is the orbit's own (the belt speed on the spans at one instant
+//!    moves with their vibrations: by 4 % on the accessory drive after its
+//!    run-up, which left the defect at 0.1). The states y_j = S^j y(t_j)
+//!    at [`SETTLE_PERIODS`]
 //!    successive periods are combined by reduced rank extrapolation (the
 //!    weights, summing to 1, that make the combined period-to-period
 //!    differences least; exact for a linear map with fewer slow modes than
@@ -91,11 +97,13 @@ impl Orbit {
     }
 }
 
-/// Body-passing period of the running belt [s] and the direction of travel
-/// along the body index (+1: body i takes the place of body i + 1): the
-/// bodies on the free spans, where each body covers the distance to its
-/// neighbour in one period (on a wrap the chord between centres is shorter
-/// than the arc they travel). Infinite at rest.
+/// Body-passing period of the running belt at one instant [s] and the
+/// direction of travel along the body index (+1: body i takes the place of
+/// body i + 1): the bodies on the free spans, where each body covers the
+/// distance to its neighbour in one period (on a wrap the chord between
+/// centres is shorter than the arc they travel), with their speed along
+/// that chord (a span's transverse vibration does not count). An estimate:
+/// the analysis times the periods by a Poincaré section. Infinite at rest.
 pub fn passing_period(lin: &Linearisation) -> (f64, f64) {
     let n = lin.n;
     let (mut dist, mut speed, mut dir) = (0.0, 0.0, 0.0);
@@ -110,8 +118,9 @@ pub fn passing_period(lin: &Linearisation) -> (f64, f64) {
         let v = [lin.y[lin.body(i, 3)], lin.y[lin.body(i, 4)]];
         dir += v[0] * d[0] + v[1] * d[1];
         if all_free || (contact[i].is_none() && contact[k].is_none()) {
-            dist += d[0].hypot(d[1]);
-            speed += v[0].hypot(v[1]);
+            let len = d[0].hypot(d[1]);
+            dist += len;
+            speed += (v[0] * d[0] + v[1] * d[1]).abs() / len;
         }
     }
     (dist / speed, dir.signum())
@@ -303,7 +312,7 @@ pub const ORBIT_TOL: f64 = 1e-3;
 pub const SETTLE_PERIODS: usize = 30;
 
 /// Most extrapolations in [`settle`].
-pub const SETTLE_CYCLES: usize = 4;
+pub const SETTLE_CYCLES: usize = 6;
 
 /// Absolute tolerance of those runs.
 pub const ORBIT_ABS_TOL: f64 = 1e-8;
@@ -341,18 +350,119 @@ fn orbit_drive(run: &Drive) -> Result<Drive, String> {
     }
 }
 
-/// Runs the drive over one period and returns S y(P) on the periodic
-/// states (the bodies' angles unwrapped against y(0)), y(0) on the others.
+/// The Poincaré section that times each period: the line from a pulley
+/// centre through the body in the middle of that pulley's wrap at the start.
+/// A period ends when the body taking that body's place crosses the line, so
+/// the period is the orbit's own, not an estimate from one instant (the
+/// belt speed on the spans moves with their vibrations, by 4 % on the
+/// accessory drive after its run-up).
+#[derive(Clone, Copy, Debug)]
+struct Section {
+    centre: [f64; 2],
+    angle: f64,
+    /// +1 if the bodies cross it counterclockwise about `centre`.
+    sense: f64,
+    /// The body on the line at the start.
+    body: usize,
+    /// Index step to the body that takes a body's place after one period.
+    step: usize,
+}
+
+impl Section {
+    /// On the wrap of the first speed-driven pulley (the crank, whose
+    /// surface moves steadily), else of the first pulley with a wrap.
+    fn new(lin: &Linearisation, dir: f64) -> Option<Self> {
+        let n = lin.n;
+        let np = lin.pulleys.len();
+        let order = (0..np)
+            .filter(|&j| lin.pulleys[j].speed_driven)
+            .chain((0..np).filter(|&j| !lin.pulleys[j].speed_driven));
+        for j in order {
+            let on = |i: usize| lin.contact_of(i % n) == Some(j);
+            // the first body of the wrap's run, then its middle
+            let Some(first) = (0..n).find(|&i| on(i) && !on(i + n - 1)) else {
+                continue;
+            };
+            let len = (0..n).take_while(|&k| on(first + k)).count();
+            let body = (first + len / 2) % n;
+            let centre = lin.pulleys[j].centre;
+            let (x, y) = (lin.y[lin.body(body, 0)], lin.y[lin.body(body, 1)]);
+            let (vx, vy) = (lin.y[lin.body(body, 3)], lin.y[lin.body(body, 4)]);
+            let (rx, ry) = (x - centre[0], y - centre[1]);
+            let cross = rx * vy - ry * vx;
+            if cross == 0.0 {
+                continue;
+            }
+            return Some(Self {
+                centre,
+                angle: ry.atan2(rx),
+                sense: cross.signum(),
+                body,
+                step: if dir > 0.0 { n - 1 } else { 1 },
+            });
+        }
+        None
+    }
+
+    /// Angle of `body` past the line in its direction of travel [rad].
+    fn past(&self, y: &[f64], body: usize) -> f64 {
+        let o = BODY_STATES * body;
+        let a = (y[o + 1] - self.centre[1]).atan2(y[o] - self.centre[0]);
+        self.sense * angle_diff(a, self.angle)
+    }
+
+    /// Runs the drive until the body that takes `body`'s place crosses the
+    /// line (`guess`: the period expected); returns that body.
+    fn next(&self, drive: &mut Drive, body: usize, guess: f64) -> Result<usize, String> {
+        let next = (body + self.step) % drive.system().n_bodies();
+        let t0 = drive.time();
+        adapter::run_to(drive, t0 + 0.8 * guess)?;
+        if self.past(drive.state(), next) >= 0.0 {
+            return Err("the belt ran more than one body pitch in 0.8 periods".into());
+        }
+        let h = guess / 32.0;
+        loop {
+            let before = drive.clone();
+            let ga = self.past(before.state(), next);
+            adapter::run_to(drive, before.time() + h)?;
+            let gb = self.past(drive.state(), next);
+            if gb >= 0.0 {
+                // the crossing by the secant, twice (the body moves smoothly
+                // with its pulley: the second lands within ~1e-10 P)
+                let rate = (gb - ga) / h;
+                let mut t = before.time() - ga / rate;
+                for _ in 0..2 {
+                    *drive = before.clone();
+                    adapter::run_to(drive, t)?;
+                    t -= self.past(drive.state(), next) / rate;
+                    if t <= before.time() {
+                        break;
+                    }
+                }
+                return Ok(next);
+            }
+            if drive.time() > t0 + 1.5 * guess {
+                return Err("no body crossed the period's section within 1.5 periods".into());
+            }
+        }
+    }
+}
+
+/// Runs the drive over one period (to the section) and returns S y(P) on
+/// the periodic states (the bodies' angles unwrapped against y(0)), y(0) on
+/// the others, and the body now on the section.
 fn one_period(
     drive: &mut Drive,
     lin: &Linearisation,
-    period: f64,
+    section: &Section,
+    body: usize,
+    guess: f64,
     to: &[usize],
-) -> Result<Vec<f64>, String> {
+) -> Result<(Vec<f64>, usize), String> {
     let y0 = drive.state().to_vec();
-    adapter::run_to(drive, drive.time() + period)?;
+    let next = section.next(drive, body, guess)?;
     let r = residual(lin, to, &y0, drive.state());
-    Ok(y0.iter().zip(&r).map(|(a, b)| a + b).collect())
+    Ok((y0.iter().zip(&r).map(|(a, b)| a + b).collect(), next))
 }
 
 /// Brings the drive onto its periodic running state by reduced rank
@@ -365,11 +475,13 @@ pub fn settle(drive: &mut Drive, cycles: usize, k: usize) -> Result<Vec<f64>, St
     let mut defects = Vec::new();
     for _ in 0..cycles {
         let lin = adapter::linearise(drive);
-        let (period, dir) = passing_period(&lin);
+        let (mut period, dir) = passing_period(&lin);
         if !period.is_finite() || period >= 1.0 || period <= 0.0 {
             return Err("the belt is not running (under one body passing per second)".into());
         }
         let to = shift_map(&lin, dir);
+        let section = Section::new(&lin, dir).ok_or("no belt body touches a pulley")?;
+        let mut body = section.body;
         let scale = scales(&lin);
         let periodic = lin.periodic_states();
         // x_0 = y(t0), x_j = S^j y(t0 + j P) in the labelling of x_0
@@ -377,7 +489,9 @@ pub fn settle(drive: &mut Drive, cycles: usize, k: usize) -> Result<Vec<f64>, St
         let mut perm: Vec<usize> = (0..lin.dim).collect(); // S^j as a map
         for _ in 0..k {
             let lin_now = adapter::linearise(drive);
-            let end = one_period(drive, &lin_now, period, &to)?;
+            let t = drive.time();
+            let (end, next) = one_period(drive, &lin_now, &section, body, period, &to)?;
+            (body, period) = (next, drive.time() - t);
             // `end` is S y(t + P) in the labelling of y(t); map to x_0's
             let mut x = vec![0.0; lin.dim];
             for (r, &v) in end.iter().enumerate() {
@@ -462,10 +576,15 @@ pub fn floquet(run: &Drive, opts: &Options, substeps: usize) -> Result<Modes, St
     let drive = &mut orbit_drive(run)?;
     let mut defects = settle(drive, SETTLE_CYCLES, SETTLE_PERIODS)?;
     let lin = adapter::linearise(drive);
-    let (period, dir) = passing_period(&lin);
-    if !period.is_finite() || period >= 1.0 || period <= 0.0 {
+    let (guess, dir) = passing_period(&lin);
+    if !guess.is_finite() || guess >= 1.0 || guess <= 0.0 {
         return Err("the belt is not running (under one body passing per second)".into());
     }
+    // the period of the orbit: to the section, on a copy
+    let section = Section::new(&lin, dir).ok_or("no belt body touches a pulley")?;
+    let mut probe = drive.clone();
+    section.next(&mut probe, section.body, guess)?;
+    let period = probe.time() - drive.time();
     let to = shift_map(&lin, dir);
     let y0 = drive.state().to_vec();
     let t0 = drive.time();

@@ -104,11 +104,32 @@ impl ContactLaw {
         (self.c1 * p + self.c2) * p
     }
 
+    /// Tangent stiffness of the elastic part at penetration `p`, dN_e/dp =
+    /// 2 c1 p + c2 (eq. 9).
+    pub fn stiffness(&self, p: f64) -> f64 {
+        2.0 * self.c1 * p + self.c2
+    }
+
+    /// The penetration at which the elastic part carries the normal force
+    /// `n`: the positive root of c1 p^2 + c2 p = n (eq. 9 in equilibrium),
+    /// 0 for `n` <= 0.
+    pub fn penetration_for(&self, n: f64) -> f64 {
+        let (c1, c2) = (self.c1, self.c2);
+        if n <= 0.0 {
+            0.0
+        } else if c1 == 0.0 {
+            n / c2
+        } else {
+            // Stable form of (-c2 + sqrt(c2^2 + 4 c1 n)) / (2 c1).
+            2.0 * n / (c2 + (c2 * c2 + 4.0 * c1 * n).sqrt())
+        }
+    }
+
     /// Damping ratio of a body of `mass` bouncing on the pulley at
     /// penetration `p`: delta(p) b / (2 sqrt(k m)) with the tangent
-    /// stiffness k = 2 c1 p + c2 (eq. 9-11).
+    /// stiffness k ([`Self::stiffness`], eq. 9-11).
     pub fn damping_ratio(&self, p: f64, mass: f64, inv_p_max: f64) -> f64 {
-        let k = 2.0 * self.c1 * p + self.c2;
+        let k = self.stiffness(p);
         smoothstep(p * inv_p_max) * self.b / (2.0 * (k * mass).sqrt())
     }
 
@@ -307,7 +328,7 @@ pub fn quadrature(points: usize) -> &'static [(f64, f64)] {
         3 => &G3,
         4 => &G4,
         5 => &G5,
-        _ => panic!("contact.points = {points} outside 1..={MAX_POINTS}"),
+        _ => panic!("{points} contact points outside 1..={MAX_POINTS}"),
     }
 }
 
@@ -1067,5 +1088,20 @@ mod tests {
         // Energy is the integral of the elastic force (Simpson, exact for cubics).
         let (f0, fm, f1) = (0.0, law.normal_force(p / 2.0, 0.0, inv_p_max).1, e);
         assert!((law.energy(p) - p / 6.0 * (f0 + 4.0 * fm + f1)).abs() < 1e-15);
+        // the tangent stiffness is the elastic force's slope (central
+        // difference, exact for a quadratic up to rounding), and the
+        // penetration that carries a force inverts it, with and without
+        // the quadratic term
+        let h = 1e-7;
+        let slope = (law.elastic_force(p + h) - law.elastic_force(p - h)) / (2.0 * h);
+        assert!((law.stiffness(p) - slope).abs() < 1e-6 * slope, "{slope}");
+        for law in [law, ContactLaw { c1: 0.0, ..law }] {
+            for q in [1e-6, 1e-4, 3e-3] {
+                let back = law.penetration_for(law.elastic_force(q));
+                assert!((back - q).abs() < 1e-12 * q, "{q} {back}");
+            }
+            assert_eq!(law.penetration_for(0.0), 0.0);
+            assert_eq!(law.penetration_for(-1.0), 0.0);
+        }
     }
 }
