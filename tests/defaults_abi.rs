@@ -1,8 +1,8 @@
 //! Defaults that work for any drive, through the C ABI (the built library
 //! via dlopen): a drive with fewer bodies than the paper's initialises with
 //! the default probe (chosen automatically and logged); refusals name the
-//! parameter that is actually wrong (a radius typed in millimetres, a
-//! back-side idler without its flag); the belt's losses are their own
+//! parameter that is actually wrong (a radius or a centre distance typed in
+//! millimetres, a back-side idler without its flag); the belt's losses are their own
 //! output, never negative, and close the energy balance of the four-pulley
 //! accessory drive under a pulsating crank.
 #![cfg(unix)]
@@ -182,6 +182,27 @@ fn radius_in_millimetres_names_the_radius() {
     // pulleys that merely overlap (comparable radii) name the position
     let (i, s) = init(&fmi, &[], &[("pulley[2].x", 0.05)], &[]);
     i.assert_refused(s, "pulley[2].x: pulley[2] overlaps pulley[1]");
+}
+
+/// A centre distance typed in millimetres (the paper's 0.515 m as 515) makes
+/// a belt of a kilometre that no allowed mesh resolves on 27 mm pulleys: the
+/// refusal names the position and the value in metres, not the body count
+/// (which would have to be 76 309, above the 2000 allowed). A long drive
+/// that read in millimetres would not work either (40 m: the pulleys would
+/// overlap) keeps the body-count refusal.
+#[test]
+fn centre_distance_in_millimetres_names_the_position() {
+    let fmi = Fmi::load();
+    let (i, s) = init(&fmi, &[], &[("pulley[2].x", 515.0)], &[]);
+    i.assert_refused(s, "pulley[2].x: 515 m makes a belt of 1030.2 m");
+    assert!(i.logged(ERROR, "set 0.515"), "{:?}", i.log.borrow());
+    let (i, s) = init(&fmi, &[], &[("pulley[2].x", 40.0)], &[]);
+    i.assert_refused(s, "belt.nBodies: 150 bodies of");
+    assert!(
+        i.logged(ERROR, "use belt.nBodies >= "),
+        "{:?}",
+        i.log.borrow()
+    );
 }
 
 /// The accessory drive's back-side idler (pulley 4) with `backSide` left

@@ -14,7 +14,7 @@
 use super::elements::contact::{resting_force, ContactLaw};
 use super::model::wrap_angle;
 use super::param_id::{msg, Param, Part};
-use super::params::{param_error, DriveParams, ParamError};
+use super::params::{param_error, DriveParams, ParamError, MAX_BODIES};
 use std::f64::consts::TAU;
 
 /// A free span: the common tangent from one pulley to the next.
@@ -265,6 +265,36 @@ fn check_spans(params: &DriveParams, spans: &[Span]) -> Result<(), ParamError> {
     Ok(())
 }
 
+/// The refusal of a drive whose pulley centres look typed in millimetres:
+/// read as millimetres, every centre coordinate of 1 m or more gives a drive
+/// the mesh resolves. Names the largest coordinate; `None` if there is none
+/// or the drive would still be refused.
+fn millimetre_positions(params: &DriveParams, path_length: f64) -> Option<ParamError> {
+    let mut scaled = params.clone();
+    let mut largest: Option<(Param, f64)> = None;
+    for (j, q) in scaled.pulleys.iter_mut().enumerate() {
+        for (id, v) in [(Param::PulleyX(j), &mut q.x), (Param::PulleyY(j), &mut q.y)] {
+            if v.abs() >= 1.0 {
+                if largest.is_none_or(|(_, big)| v.abs() > big.abs()) {
+                    largest = Some((id, *v));
+                }
+                *v *= 1e-3;
+            }
+        }
+    }
+    let (id, v) = largest?;
+    Layout::build(&scaled, false).ok()?;
+    Some(param_error(
+        id,
+        msg![format!(
+            "{v} m makes a belt of {path_length:.1} m, which no mesh of at most {MAX_BODIES} bodies \
+             resolves on these pulleys; positions are in metres: if {v} was meant in millimetres, \
+             set {}",
+            v * 1e-3
+        )],
+    ))
+}
+
 impl Layout {
     /// Builds the belt path and the mounted belt. `params` must have passed
     /// [`DriveParams::validate`].
@@ -355,6 +385,19 @@ impl Layout {
             if !resolved {
                 let n = params.belt.n_bodies;
                 let r = params.pulleys[w.pulley].radius;
+                // Longest body that meets both conditions on this wrap.
+                let l_max = r * (w.angle / 3.0).min(0.5);
+                let needed = (path_length / l_max).ceil();
+                // More bodies than allowed: a belt far longer than its
+                // pulleys are wide, typically centres typed in millimetres.
+                // If the drive with every coordinate of 1 m or more read as
+                // millimetres is one this mesh resolves, the largest of them
+                // is named.
+                if diagnose && needed > MAX_BODIES as f64 {
+                    if let Some(e) = millimetre_positions(params, path_length) {
+                        return Err(e);
+                    }
+                }
                 // A small wrap may be an idler on the wrong side of the belt:
                 // if the other wrap side gives a drive this mesh resolves,
                 // the flag is the likely mistake.
@@ -393,8 +436,6 @@ impl Layout {
                         ));
                     }
                 }
-                // Longest body that meets both conditions on this wrap.
-                let l_max = r * (w.angle / 3.0).min(0.5);
                 return Err(param_error(
                     Param::BeltBodies,
                     msg![
@@ -410,7 +451,7 @@ impl Layout {
                             r * 1e3,
                         ),
                         Param::BeltBodies,
-                        format!(" >= {}", (path_length / l_max).ceil() as usize),
+                        format!(" >= {}", needed as usize),
                     ],
                 ));
             }

@@ -70,11 +70,11 @@ pub enum Start {
 pub struct VarInfo<K: 'static> {
     /// Value reference (unique across all types).
     pub vr: u32,
-    /// Full name, e.g. `pulley[2].hubForce.x`.
+    /// Full name, e.g. `wheel[2].force.x`.
     pub name: &'static str,
-    /// The model's key, e.g. `Var::PulleyHubForceX`.
+    /// The model's key, e.g. `Var::WheelForceX` (one per base name).
     pub var: K,
-    /// 0-based array index (`pulley[2]` -> 1); 0 for scalars.
+    /// 0-based array index (`wheel[2]` -> 1); 0 for scalars.
     pub index: usize,
     /// Base type (the element inside `<ScalarVariable>`).
     pub ty: VarType,
