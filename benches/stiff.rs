@@ -136,16 +136,25 @@ fn run(label: &str, p: &DriveParams, horizon: f64) {
 
 /// Sections to run: every argument that is not a flag names one
 /// (`kernels`, `5pk`, `s3`, `scaling` = `scaling5pk` + `scaling3`, `kubas`);
-/// none runs all but `kubas`. `--points=K` runs the `5pk` and `scaling`
-/// drives with K contact points along each body (`contact.points`).
+/// none runs all but `kubas` and `rkf45`. `--points=K` runs the `5pk`,
+/// `rkf45` and `scaling` drives with K contact points along each body
+/// (`contact.points`; without it, the drive's own). `rkf45`: the 5PK drive
+/// with RKF45 (solver.method = 1) at its default tolerances over 0-0.1 s
+/// (`--horizon=T` s instead), for side-by-side step counts and CPU time.
 fn main() {
     let quick = std::env::var("BELT_BENCH_QUICK").is_ok();
-    let points: usize = std::env::args()
-        .find_map(|a| {
-            a.strip_prefix("--points=")
-                .map(|k| k.parse().expect("--points=K"))
+    let flag = |name: &str| -> Option<f64> {
+        std::env::args().find_map(|a| {
+            a.strip_prefix(name)
+                .map(|k| k.parse().unwrap_or_else(|_| panic!("{name}VALUE")))
         })
-        .unwrap_or(1);
+    };
+    let points = flag("--points=").map(|k| k as usize);
+    let set_points = |p: &mut DriveParams| {
+        if let Some(k) = points {
+            p.contact.points = k;
+        }
+    };
     let picked: Vec<String> = std::env::args()
         .skip(1)
         .filter(|a| !a.starts_with('-'))
@@ -166,7 +175,7 @@ fn main() {
             let mut p = DriveParams::kubas_section4();
             p.solver.method = Method::Rosenbrock;
             p.solver.rel_tol = tol;
-            p.contact.points = points;
+            set_points(&mut p);
             run(&format!("5PK, rtol {tol:e}"), &p, horizon);
         }
     }
@@ -206,9 +215,21 @@ fn main() {
             p.belt.n_bodies = n;
             p.probe_body = 0;
             p.solver.method = Method::Rosenbrock;
-            p.contact.points = points;
+            set_points(&mut p);
             run(&format!("n = {n}"), &p, scaling_horizon);
         }
+    }
+    if picked.iter().any(|a| a == "rkf45") {
+        let horizon = flag("--horizon=").unwrap_or(0.1);
+        println!("# default 5PK drive, creep law, RKF45 at its default tolerances, 0..{horizon} s");
+        let mut p = DriveParams::kubas_section4();
+        p.solver.method = Method::Rkf45;
+        set_points(&mut p);
+        run(
+            &format!("5PK, {} contact points", p.contact.points),
+            &p,
+            horizon,
+        );
     }
     if picked.iter().any(|a| a == "kubas") {
         println!("# kubas2014 law at the paper's dv = 1e-5 m/s, ROS34PW2 rtol 1e-4");

@@ -240,8 +240,10 @@ struct Block {
     torque_q: [f64; OWN_COL],
     diss_q: [f64; OWN_COL],
     rec_q: [[f64; 9]; OWN_COL],
-    // contact along the body: the contact moments on body j about its centre
+    // contact along the body: the contact moments on body j about its
+    // centre, summed over the pulleys, and that of the pulley at hand
     otq: [f64; OWN_COL],
+    cmq: [f64; OWN_COL],
 }
 
 // The layout the loops rely on (see [`Block`]).
@@ -252,6 +254,7 @@ const _: () = assert!(
         && std::mem::offset_of!(Block, zf) % 64 == 0
         && std::mem::offset_of!(Block, rec_q) % 64 == 0
         && std::mem::offset_of!(Block, otq) % 64 == 0
+        && std::mem::offset_of!(Block, cmq) % 64 == 0
 );
 
 impl Block {
@@ -290,6 +293,7 @@ impl Block {
             diss_q: B,
             rec_q: [[0.0; 9]; OWN_COL],
             otq: B,
+            cmq: B,
         }
     }
 
@@ -1150,10 +1154,11 @@ impl BeltSystem {
     }
 
     /// [`Self::contacts`] with the contact along the body (more than one
-    /// `contact.points`, [`contact::segment`]): the bodies whose centre
-    /// lies within reach of the pulley (`PulleyConst::reach`) are tested
-    /// point by point; the contact moments on the bodies are added to
-    /// `otq`. A scalar loop over the bodies of the block.
+    /// `contact.points`, [`contact::point`]): the bodies lo..hi whose
+    /// centres lie within reach of the pulley (`PulleyConst::reach`) run
+    /// through [`contact_along_arc`] in lanes, as the centre contact's
+    /// bodies run through [`contact_arc`]; the contact moments on the
+    /// bodies are added to `otq`.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn contacts_along<R: Recorder>(
@@ -1168,60 +1173,71 @@ impl BeltSystem {
         rec: &mut R,
         law: &impl Law,
     ) -> (f64, f64, [f64; 2]) {
-        let [cx, cy, cvx, cvy] = *centre;
+        let (cx, cy) = (centre[0], centre[1]);
         let reach2 = pc.reach * pc.reach;
-        let (mut torque, mut diss, mut fx, mut fy) = (0.0, 0.0, 0.0, 0.0);
-        for j in 0..len {
-            let m = j + 1;
-            let (rx, ry) = (b.x[m] - cx, b.y[m] - cy);
-            if rx * rx + ry * ry >= reach2 {
-                continue;
-            }
-            let zf = b.zf[j];
-            let pulley = contact::PulleySide {
-                radii: &pc.radii,
-                omega,
-                levers: &pc.levers,
-                mu_s: pc.mu_s * zf,
-                mu_k: pc.mu_k * zf,
-                inv_p_max: pc.inv_p_max,
-            };
-            let body = contact::BodySide {
-                r: [rx, ry],
-                v: [b.vx[m] - cvx, b.vy[m] - cvy],
-                h: [b.hx[m], b.hy[m]],
-                w: b.w[m],
-                z: b.z[m],
-            };
-            let Some((s, _)) =
-                contact::segment(&self.contact, law, self.points, &pulley, &body, false)
-            else {
-                continue;
-            };
-            b.ofx[j] += s.force[0];
-            b.ofy[j] += s.force[1];
-            b.dz[j] += s.creep_rate;
-            b.otq[j] += s.moment;
-            torque += s.torque;
-            diss += s.dissipation;
-            fx += s.force[0];
-            fy += s.force[1];
-            if R::ACTIVE {
-                // the contact's share of the belt's loss (normal dampers and
-                // friction slip) and the power its creep spring stores
-                // (elements::friction, with the body's one creep rate)
-                let fr = law;
-                let phi = fr.spring_energy(body.z, pulley.mu_s, pulley.mu_k);
-                let mu0 = fr.coefficient(0.0, body.z, pulley.mu_s, pulley.mu_k);
-                let stored = s.elastic * mu0 * s.creep_rate + s.elastic_rate * phi;
-                let friction_power = s.slip_power + s.normal * mu0 * s.creep_rate;
-                let damper = s.dissipation - friction_power;
-                rec.contact(i0 + j, q, s.normal, s.friction, s.v_t, s.penetration);
-                rec.belt_loss(damper + s.slip_power.max(0.0));
-                rec.creep_spring_power(stored);
+        let (mut lo, mut hi) = (len, 0);
+        let end = padded(len);
+        assert!(end < BLOCK + 1 + PAD);
+        for j in 0..end {
+            let (rx, ry) = (b.x[j + 1] - cx, b.y[j + 1] - cy);
+            let near = (rx * rx + ry * ry < reach2) & (j < len);
+            lo = lo.min(if near { j } else { len });
+            hi = hi.max(if near { j + 1 } else { 0 });
+        }
+        if lo >= hi {
+            return (0.0, 0.0, [0.0; 2]);
+        }
+        let end = lo + padded(hi - lo);
+        let body = [
+            &b.x[lo + 1..=end],
+            &b.y[lo + 1..=end],
+            &b.vx[lo + 1..=end],
+            &b.vy[lo + 1..=end],
+            &b.w[lo + 1..=end],
+            &b.z[lo + 1..=end],
+            &b.hx[lo + 1..=end],
+            &b.hy[lo + 1..=end],
+            &b.zf[lo..end],
+        ];
+        let out = ArcOut {
+            fx: &mut b.cfx[lo..end],
+            fy: &mut b.cfy[lo..end],
+            dz: &mut b.cdz[lo..end],
+            moment: &mut b.cmq[lo..end],
+            torque: &mut b.torque_q[lo..end],
+            diss: &mut b.diss_q[lo..end],
+            rec: R::ACTIVE.then_some(&mut b.rec_q[lo..end]),
+        };
+        let valid = hi - lo;
+        // one build of the lane loop per point count (the points unrolled)
+        match self.points {
+            2 => contact_along_arc::<2>(self, pc, centre, omega, law, valid, body, out),
+            3 => contact_along_arc::<3>(self, pc, centre, omega, law, valid, body, out),
+            4 => contact_along_arc::<4>(self, pc, centre, omega, law, valid, body, out),
+            5 => contact_along_arc::<5>(self, pc, centre, omega, law, valid, body, out),
+            k => unreachable!("contact.points = {k} along the body"),
+        }
+        for j in lo..end {
+            b.ofx[j] += b.cfx[j];
+            b.ofy[j] += b.cfy[j];
+            b.dz[j] += b.cdz[j];
+            b.otq[j] += b.cmq[j];
+        }
+        if R::ACTIVE {
+            for j in lo..hi {
+                let v = b.rec_q[j];
+                if v[6] != 0.0 {
+                    rec.contact(i0 + j, q, v[0], v[1], v[2], v[3]);
+                    rec.belt_loss(v[7]);
+                    rec.creep_spring_power(v[8]);
+                }
             }
         }
-        (torque, diss, [fx, fy])
+        (
+            sum(&b.torque_q[lo..hi]),
+            sum(&b.diss_q[lo..hi]),
+            [sum(&b.cfx[lo..hi]), sum(&b.cfy[lo..hi])],
+        )
     }
 
     /// Discrete update after every accepted step: the creep displacement of a
@@ -1249,6 +1265,17 @@ impl BeltSystem {
     pub fn touching(&self, i: usize, y: &[f64], centres: &[[f64; 2]]) -> Option<usize> {
         let o = BODY_DOF * i;
         let (x, yy) = (y[o], y[o + 1]);
+        let mut pulleys = self.pulleys[..self.np].iter().zip(centres);
+        // no point of a body lies farther than l/2 from its centre: a body
+        // out of every pulley's reach touches none (the common case, and
+        // no sin/cos for it)
+        let near = |pc: &PulleyConst, c: &[f64; 2]| {
+            let (rx, ry) = (x - c[0], yy - c[1]);
+            rx * rx + ry * ry < pc.reach * pc.reach
+        };
+        if !pulleys.clone().any(|(pc, c)| near(pc, c)) {
+            return None;
+        }
         let (hx, hy) = if self.points > 1 {
             let (s, c) = y[o + 2].sin_cos();
             (self.half_length * c, self.half_length * s)
@@ -1256,15 +1283,13 @@ impl BeltSystem {
             (0.0, 0.0)
         };
         let quad = contact::quadrature(self.points);
-        self.pulleys[..self.np]
-            .iter()
-            .zip(centres)
-            .position(|(pc, c)| {
-                quad.iter().zip(&pc.radii).any(|(&(xi, _), &rg)| {
+        pulleys.position(|(pc, c)| {
+            near(pc, c)
+                && quad.iter().zip(&pc.radii).any(|(&(xi, _), &rg)| {
                     let (rx, ry) = (x + xi * hx - c[0], yy + xi * hy - c[1]);
                     rx * rx + ry * ry < rg * rg
                 })
-            })
+        })
     }
 
     /// Energy stored in the creep springs of every contact of state `y`:
@@ -1485,6 +1510,161 @@ fn contact_arc(
                 fy,
                 f64::from(u8::from(inside)),
                 loss,
+                stored,
+            ];
+        }
+    }
+}
+
+/// Where [`contact_along_arc`] writes, per body of the run: the contact
+/// force, creep rate, moment about the body centre, moment about the
+/// pulley axis, dissipated power and, if given, the recorded values.
+struct ArcOut<'a> {
+    fx: &'a mut [f64],
+    fy: &'a mut [f64],
+    dz: &'a mut [f64],
+    moment: &'a mut [f64],
+    torque: &'a mut [f64],
+    diss: &'a mut [f64],
+    rec: Option<&'a mut [[f64; 9]]>,
+}
+
+/// [`contact_arc`] with the contact along the body at `K` points
+/// ([`contact::point`] at each, the sums and the body's one creep rate as
+/// [`contact::segment`] forms them): `body` holds the columns x, y, vx, vy,
+/// omega, z, the half body vector hx, hy and the friction zone factor of
+/// the run (the first `valid` bodies, then padding that is ignored); pulley
+/// speed `omega`. Every lane computes all its points and keeps those
+/// inside their circles, so the loop over the bodies vectorises; a body
+/// with no point inside writes zeros.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn contact_along_arc<const K: usize>(
+    sys: &BeltSystem,
+    pc: &PulleyConst,
+    centre: &[f64; 4],
+    omega: f64,
+    friction: &impl Law,
+    valid: usize,
+    body: [&[f64]; 9],
+    out: ArcOut,
+) {
+    let ArcOut {
+        fx: ofx,
+        fy: ofy,
+        dz,
+        moment,
+        torque,
+        diss,
+        mut rec,
+    } = out;
+    let k = ofx.len();
+    let [xs, ys, vxs, vys, ws, zs, hxs, hys, zfs] = body;
+    let (xs, ys, vxs, vys, ws, zs, hxs, hys, zfs) = (
+        &xs[..k],
+        &ys[..k],
+        &vxs[..k],
+        &vys[..k],
+        &ws[..k],
+        &zs[..k],
+        &hxs[..k],
+        &hys[..k],
+        &zfs[..k],
+    );
+    let (ofy, dz, moment, torque, diss) = (
+        &mut ofy[..k],
+        &mut dz[..k],
+        &mut moment[..k],
+        &mut torque[..k],
+        &mut diss[..k],
+    );
+    // the points' constants in locals (unrolled over K)
+    let quad: [(f64, f64); K] = contact::quadrature(K).try_into().expect("K points");
+    let radii: [f64; K] = pc.radii[..K].try_into().expect("K radii");
+    let levers: [f64; K] = pc.levers[..K].try_into().expect("K levers");
+    let law = sys.contact;
+    let laws: [ContactLaw; K] = std::array::from_fn(|g| law.share(quad[g].1));
+    let PulleyConst {
+        mu_s,
+        mu_k,
+        inv_p_max,
+        ..
+    } = *pc;
+    let [cx, cy, cvx, cvy] = *centre;
+    for i in 0..k {
+        let zf = zfs[i];
+        let pulley = contact::PulleySide {
+            radii: &radii,
+            omega,
+            levers: &levers,
+            mu_s: mu_s * zf,
+            mu_k: mu_k * zf,
+            inv_p_max,
+        };
+        let b = contact::BodySide {
+            r: [xs[i] - cx, ys[i] - cy],
+            v: [vxs[i] - cvx, vys[i] - cvy],
+            h: [hxs[i], hys[i]],
+            w: ws[i],
+            z: zs[i],
+        };
+        // the sums of contact::segment over the points inside
+        let (mut sfx, mut sfy, mut smom, mut stq, mut sdiss) = (0.0, 0.0, 0.0, 0.0, 0.0);
+        let (mut snormal, mut sfric, mut selastic, mut selastic_rate, mut sslip) =
+            (0.0, 0.0, 0.0, 0.0, 0.0);
+        let (mut se, mut sev, mut count, mut sv) = (0.0, 0.0, 0.0, 0.0);
+        let mut p_max = f64::MIN;
+        for g in 0..K {
+            let pt = contact::point(
+                &laws[g], friction, quad[g].0, radii[g], levers[g], &pulley, &b,
+            );
+            p_max = p_max.max(pt.kin.p);
+            let inside = pt.kin.p > 0.0;
+            let keep = |v: f64| if inside { v } else { 0.0 };
+            sfx += keep(pt.force[0]);
+            sfy += keep(pt.force[1]);
+            smom += keep(pt.moment);
+            stq += keep(levers[g] * pt.f);
+            sdiss += keep(pt.dissipation);
+            snormal += keep(pt.normal);
+            sfric += keep(pt.f);
+            selastic += keep(pt.elastic);
+            selastic_rate += keep(pt.elastic_rate);
+            sslip += keep(pt.f * pt.kin.v_t);
+            se += keep(pt.elastic);
+            sev += keep(pt.elastic * pt.kin.v_t);
+            count += keep(1.0);
+            sv += keep(pt.kin.v_t);
+        }
+        let v_t = contact::body_sliding_velocity(se, sev, count, sv);
+        let creep_rate = friction.creep_rate(v_t, b.z);
+        let inside = (count > 0.0) & (i < valid);
+        let keep = |v: f64| if inside { v } else { 0.0 };
+        ofx[i] = keep(sfx);
+        ofy[i] = keep(sfy);
+        dz[i] = keep(creep_rate);
+        moment[i] = keep(smom);
+        torque[i] = keep(stq); // eq. 24
+        diss[i] = keep(sdiss);
+        if let Some(r) = rec.as_deref_mut() {
+            // the contact's share of the belt's loss (normal dampers and
+            // friction slip) and the power its creep spring stores
+            // (elements::friction, with the body's one creep rate)
+            let (ms, mk) = (pulley.mu_s, pulley.mu_k);
+            let mu0 = friction.coefficient(0.0, b.z, ms, mk);
+            let phi = friction.spring_energy(b.z, ms, mk);
+            let slip = sslip - snormal * mu0 * creep_rate;
+            let stored = selastic * mu0 * creep_rate + selastic_rate * phi;
+            let damper = sdiss - (slip + snormal * mu0 * creep_rate);
+            r[i] = [
+                snormal,
+                sfric,
+                v_t,
+                p_max,
+                sfx,
+                sfy,
+                f64::from(u8::from(inside)),
+                damper + slip.max(0.0),
                 stored,
             ];
         }

@@ -194,3 +194,62 @@ pub fn read(bytes: &[u8]) -> Result<BeltDrive, String> {
     }
     Ok(m)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// This version's layout, pinned: the bytes of a snapshot less those of
+    /// the parameters (their number follows the model description, whose
+    /// GUID the plumbing checks), for the 60-body fast drive before it is
+    /// built and after 5 ms with each integrator. A change of the layout
+    /// (a state per body or pulley, the integrator data, a field) changes
+    /// them and must come with a new `VERSION`, which
+    /// `tests/tensioner_abi.rs` (`a_state_of_the_previous_version_is_refused`)
+    /// follows.
+    #[test]
+    fn layout_of_this_version_is_pinned() {
+        let parameter_bytes: usize = parameters()
+            .map(|v| match v.start {
+                Start::Real(_) => 8,
+                _ => 4,
+            })
+            .sum();
+        let layout = |method: Option<i32>| {
+            let mut m = BeltDrive::new();
+            let int = |m: &mut BeltDrive, name: &str, x: i32| {
+                let v = variables::by_name(name).expect("a variable");
+                m.set_integer(v, x).expect("accepted");
+            };
+            int(&mut m, "belt.nBodies", 60);
+            for (name, x) in [
+                ("pulley[1].radius", 0.05),
+                ("pulley[2].radius", 0.05),
+                ("pulley[2].x", 0.25),
+                ("belt.preload", 300.0),
+            ] {
+                let v = variables::by_name(name).expect("a variable");
+                m.set_real(v, x).expect("accepted");
+            }
+            if let Some(code) = method {
+                int(&mut m, "solver.method", code);
+                for k in 0..5 {
+                    m.do_step(f64::from(k) * 1e-3, 1e-3).expect("a step");
+                }
+            }
+            let mut bytes = Vec::new();
+            write(&m, &mut bytes);
+            read(&bytes).expect("reads back");
+            bytes.len() - parameter_bytes
+        };
+        let [unbuilt, rkf45, stiff] = [None, Some(1), Some(2)].map(layout);
+        assert_eq!((VERSION, unbuilt, rkf45), (4, 244, 3868));
+        // the stiff method's data hold its Jacobian while it is kept (here
+        // after 5 ms) and not after a rejected step: 16 bytes more than
+        // RKF45's without it
+        assert!(
+            [3884, 128_308].contains(&stiff),
+            "the stiff method's layout changed: {stiff} bytes"
+        );
+    }
+}

@@ -495,6 +495,101 @@ pub struct SegmentPartials {
     pub creep_w: f64,
 }
 
+impl ContactLaw {
+    /// The share `w` of the law ([`quadrature`]'s weight of a point): c1,
+    /// c2 and b times w.
+    #[inline(always)]
+    pub fn share(&self, w: f64) -> Self {
+        Self {
+            c1: self.c1 * w,
+            c2: self.c2 * w,
+            b: self.b * w,
+        }
+    }
+}
+
+/// One contact point of a body ([`point`]): its offset `a` = xi h from the
+/// body centre and `pa` = a turned by +90 degrees, its velocity `vg`, its
+/// [`ContactKin`] against its own contact circle, and its normal force
+/// (with the elastic part and its rate), friction force `f` = mu N and
+/// force on the body, the force's moment about the body centre and the
+/// power the point dissipates. Meaningful where `kin.p` > 0 (the point
+/// inside its circle); computed, not branched, elsewhere, so that a loop
+/// over the bodies vectorises.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[allow(missing_docs)]
+pub struct PointContact {
+    pub a: [f64; 2],
+    pub pa: [f64; 2],
+    pub vg: [f64; 2],
+    pub kin: ContactKin,
+    pub normal: f64,
+    pub elastic: f64,
+    pub elastic_rate: f64,
+    pub f: f64,
+    pub force: [f64; 2],
+    pub moment: f64,
+    pub dissipation: f64,
+}
+
+/// The law of [`segment`] at one point of a body: the point at `xi` l/2
+/// along the body (`body.h` = l/2 (cos phi, sin phi)) with its share `lw`
+/// of the penalty law ([`ContactLaw::share`]), its contact circle `radius`
+/// ([`point_radii`]) and friction lever `lever` ([`point_levers`]): its
+/// penetration, rate and sliding velocity from the body's rigid motion
+/// (v + omega x a), the normal force (eq. 9-11), the friction force
+/// mu(v_T, z) N with the body's one creep z (eq. 19) and the force's
+/// moment about the body centre. Branch-free (see [`PointContact`]): the
+/// scalar [`segment`] and the right-hand side's loop over lanes of bodies
+/// both evaluate the contact along the body through it.
+#[inline(always)]
+pub fn point(
+    lw: &ContactLaw,
+    fr: &impl Law,
+    xi: f64,
+    radius: f64,
+    lever: f64,
+    pulley: &PulleySide,
+    body: &BodySide,
+) -> PointContact {
+    let [hx, hy] = body.h;
+    let a = [xi * hx, xi * hy];
+    let pa = [-a[1], a[0]];
+    let rg = [body.r[0] + a[0], body.r[1] + a[1]];
+    let vg = [body.v[0] + body.w * pa[0], body.v[1] + body.w * pa[1]];
+    let kin = kinematics(rg, vg, radius, pulley.omega * lever);
+    let (normal, elastic) = lw.normal_force(kin.p, kin.p_dot, pulley.inv_p_max);
+    let mu = fr.coefficient(kin.v_t, body.z, pulley.mu_s, pulley.mu_k);
+    let f = mu * normal; // eq. 19
+    let force = force(&kin, normal, f);
+    PointContact {
+        a,
+        pa,
+        vg,
+        kin,
+        normal,
+        elastic,
+        elastic_rate: lw.elastic_rate(kin.p, kin.p_dot),
+        f,
+        force,
+        moment: pa[0] * force[0] + pa[1] * force[1],
+        dissipation: dissipation(&kin, normal, elastic, f),
+    }
+}
+
+/// A body's sliding velocity from its points inside the circle: the mean
+/// of their v_T weighted by their elastic normal forces, `sev / se` (sums
+/// of N_e v_T and N_e), or the plain mean `sv / count` if they carry none
+/// (`count` of them, at least one). Branch-free.
+#[inline(always)]
+pub fn body_sliding_velocity(se: f64, sev: f64, count: f64, sv: f64) -> f64 {
+    if se > 0.0 {
+        sev / se
+    } else {
+        sv / count.max(1.0)
+    }
+}
+
 /// The contact of a straight body with a pulley, the penalty law per unit
 /// length integrated at the points of [`quadrature`] (eq. 9-19 at each
 /// point): each point has its own penetration, penetration rate and
@@ -515,7 +610,6 @@ pub fn segment(
     partials: bool,
 ) -> Option<(Segment, SegmentPartials)> {
     let quad = quadrature(points);
-    let [hx, hy] = body.h;
     let mut s = Segment {
         penetration: f64::MIN,
         ..Segment::default()
@@ -534,35 +628,34 @@ pub fn segment(
     for (g, ((&(xi, wg), &lever), &radius)) in
         quad.iter().zip(pulley.levers).zip(pulley.radii).enumerate()
     {
-        let a = [xi * hx, xi * hy];
-        let pa = [-a[1], a[0]];
-        let rg = [body.r[0] + a[0], body.r[1] + a[1]];
-        let vg = [body.v[0] + body.w * pa[0], body.v[1] + body.w * pa[1]];
-        let kin = kinematics(rg, vg, radius, pulley.omega * lever);
+        let lw = law.share(wg);
+        let pt = point(&lw, fr, xi, radius, lever, pulley, body);
+        let PointContact {
+            a,
+            pa,
+            vg,
+            kin,
+            normal,
+            elastic,
+            f,
+            force,
+            ..
+        } = pt;
         s.penetration = s.penetration.max(kin.p);
         if kin.p <= 0.0 {
             continue;
         }
         any = true;
         inside[g] = true;
-        let lw = ContactLaw {
-            c1: law.c1 * wg,
-            c2: law.c2 * wg,
-            b: law.b * wg,
-        };
-        let (normal, elastic) = lw.normal_force(kin.p, kin.p_dot, pulley.inv_p_max);
-        let mu = fr.coefficient(kin.v_t, body.z, pulley.mu_s, pulley.mu_k);
-        let f = mu * normal; // eq. 19
-        let force = force(&kin, normal, f);
         s.force[0] += force[0];
         s.force[1] += force[1];
-        s.moment += pa[0] * force[0] + pa[1] * force[1];
+        s.moment += pt.moment;
         s.torque += lever * f;
-        s.dissipation += dissipation(&kin, normal, elastic, f);
+        s.dissipation += pt.dissipation;
         s.normal += normal;
         s.friction += f;
         s.elastic += elastic;
-        s.elastic_rate += lw.elastic_rate(kin.p, kin.p_dot);
+        s.elastic_rate += pt.elastic_rate;
         s.slip_power += f * kin.v_t; // less sum N mu(0, z) dz/dt below
         pe[g] = elastic;
         pv[g] = kin.v_t;
@@ -614,7 +707,7 @@ pub fn segment(
         }
     }
     let weighted = se > 0.0;
-    s.v_t = if weighted { sev / se } else { sv / count };
+    s.v_t = body_sliding_velocity(se, sev, count, sv);
     s.creep_rate = fr.creep_rate(s.v_t, body.z);
     let mu0 = fr.coefficient(0.0, body.z, pulley.mu_s, pulley.mu_k);
     s.slip_power -= s.normal * mu0 * s.creep_rate;
