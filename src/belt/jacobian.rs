@@ -59,22 +59,32 @@ pub struct BodyJacobian {
     pub pv: [RowVector3<f64>; MAX_PULLEYS],
     /// d(pulley j acceleration)/d(this body's z).
     pub pz: [f64; MAX_PULLEYS],
-    /// d(belt torque on pulley j)/d(this body's position, velocity, z): the
-    /// rows of the belt-torque impulse (all pulleys, speed-driven too).
-    pub tq: [RowVector3<f64>; MAX_PULLEYS],
-    /// d(belt torque on pulley j)/d(this body's velocity).
-    pub tv: [RowVector3<f64>; MAX_PULLEYS],
-    /// d(belt torque on pulley j)/d(this body's z).
-    pub tz: [f64; MAX_PULLEYS],
-    /// d(force on pulley j's hub)/d(this body's position, velocity, z): the
-    /// rows of the hub-force impulse.
-    pub hq: [Matrix2x3<f64>; MAX_PULLEYS],
-    /// d(force on pulley j's hub)/d(this body's velocity).
-    pub hv: [Matrix2x3<f64>; MAX_PULLEYS],
-    /// d(force on pulley j's hub)/d(this body's z).
-    pub hz: [Vector2<f64>; MAX_PULLEYS],
     /// Bit j set: the body touches pulley j (only those entries are non-zero).
     pub touching: u8,
+}
+
+/// One body's columns in the impulse rows of one pulley (its belt torque
+/// and hub force); non-zero only where the body touches the pulley
+/// ([`BodyJacobian::touching`]). Kept apart from [`BodyJacobian`], one
+/// pulley's together: only the impulse rows read them, while the
+/// factorization and the stage solves walk the body rows
+/// (docs/benchmarks.md).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ImpulseColumns {
+    /// d(belt torque on the pulley)/d(this body's position, velocity, z):
+    /// the belt-torque impulse's row (all pulleys, speed-driven too).
+    pub tq: RowVector3<f64>,
+    /// d(belt torque on the pulley)/d(this body's velocity).
+    pub tv: RowVector3<f64>,
+    /// d(belt torque on the pulley)/d(this body's z).
+    pub tz: f64,
+    /// d(force on the pulley's hub)/d(this body's position, velocity, z):
+    /// the hub-force impulse's rows.
+    pub hq: Matrix2x3<f64>,
+    /// d(force on the pulley's hub)/d(this body's velocity).
+    pub hv: Matrix2x3<f64>,
+    /// d(force on the pulley's hub)/d(this body's z).
+    pub hz: Vector2<f64>,
 }
 
 /// Derivatives of a decoupler's rows (twist rate, rotor acceleration) and
@@ -162,6 +172,8 @@ pub struct BodyArmJacobian {
 pub struct Jacobian {
     /// Per body, its rows.
     pub bodies: Vec<BodyJacobian>,
+    /// Per body, its columns in the impulse rows of pulley j.
+    pub impulse: Vec<[ImpulseColumns; MAX_PULLEYS]>,
     /// d(pulley j acceleration)/d(pulley speed k), torque-driven pulleys.
     pub pw: [[f64; MAX_PULLEYS]; MAX_PULLEYS],
     /// Pulley j's speed is a state (torque-driven) rather than an input.
@@ -207,6 +219,7 @@ impl Jacobian {
         }
         Self {
             bodies: vec![BodyJacobian::default(); sys.n],
+            impulse: vec![[ImpulseColumns::default(); MAX_PULLEYS]; sys.n],
             pw: [[0.0; MAX_PULLEYS]; MAX_PULLEYS],
             free,
             dec: [DecouplerJacobian::default(); MAX_PULLEYS],
@@ -226,7 +239,7 @@ impl Jacobian {
     /// Visits every stored number (for saving and restoring a Jacobian that
     /// is kept across steps, so a restored run continues bit-identically).
     fn visit(&mut self, f: &mut impl FnMut(&mut f64)) {
-        for b in &mut self.bodies {
+        for (b, im) in self.bodies.iter_mut().zip(&mut self.impulse) {
             for m in b.aq.iter_mut().chain(b.av.iter_mut()) {
                 m.iter_mut().for_each(&mut *f);
             }
@@ -239,15 +252,24 @@ impl Jacobian {
             for v in b.pq.iter_mut().chain(b.pv.iter_mut()) {
                 v.iter_mut().for_each(&mut *f);
             }
-            for v in b.tq.iter_mut().chain(b.tv.iter_mut()) {
-                v.iter_mut().for_each(&mut *f);
+            // field by field over the pulleys (the saved order)
+            for c in im.iter_mut() {
+                c.tq.iter_mut().for_each(&mut *f);
             }
-            b.tz.iter_mut().for_each(&mut *f);
-            for m in b.hq.iter_mut().chain(b.hv.iter_mut()) {
-                m.iter_mut().for_each(&mut *f);
+            for c in im.iter_mut() {
+                c.tv.iter_mut().for_each(&mut *f);
             }
-            for v in &mut b.hz {
-                v.iter_mut().for_each(&mut *f);
+            for c in im.iter_mut() {
+                f(&mut c.tz);
+            }
+            for c in im.iter_mut() {
+                c.hq.iter_mut().for_each(&mut *f);
+            }
+            for c in im.iter_mut() {
+                c.hv.iter_mut().for_each(&mut *f);
+            }
+            for c in im.iter_mut() {
+                c.hz.iter_mut().for_each(&mut *f);
             }
             let mut touching = f64::from(b.touching);
             f(&mut touching);
@@ -302,7 +324,7 @@ impl Jacobian {
         let np = sys.np;
         let mut torque = [0.0; MAX_PULLEYS];
         let mut hub = [Vector2::zeros(); MAX_PULLEYS];
-        for (i, b) in self.bodies.iter().enumerate() {
+        for (i, (b, im)) in self.bodies.iter().zip(&self.impulse).enumerate() {
             if b.touching == 0 {
                 continue;
             }
@@ -314,9 +336,9 @@ impl Jacobian {
             );
             for j in 0..np {
                 if b.touching & (1 << j) != 0 {
-                    torque[j] +=
-                        b.tq[j].dot(&dq.transpose()) + b.tv[j].dot(&dv.transpose()) + b.tz[j] * dz;
-                    hub[j] += b.hq[j] * dq + b.hv[j] * dv + b.hz[j] * dz;
+                    let c = &im[j];
+                    torque[j] += c.tq.dot(&dq.transpose()) + c.tv.dot(&dv.transpose()) + c.tz * dz;
+                    hub[j] += c.hq * dq + c.hv * dv + c.hz * dz;
                 }
             }
         }
@@ -578,12 +600,9 @@ impl BeltSystem {
                 b.pq[j] = RowVector3::zeros();
                 b.pv[j] = RowVector3::zeros();
                 b.pz[j] = 0.0;
-                b.tq[j] = RowVector3::zeros();
-                b.tv[j] = RowVector3::zeros();
-                b.tz[j] = 0.0;
-                b.hq[j] = Matrix2x3::zeros();
-                b.hv[j] = Matrix2x3::zeros();
-                b.hz[j] = Vector2::zeros();
+            }
+            for c in &mut jac.impulse[i][..np] {
+                *c = ImpulseColumns::default();
             }
             if with_arms {
                 jac.arm_bodies[i] = BodyArmJacobian::default();
@@ -701,12 +720,14 @@ impl BeltSystem {
                 // impulse rows: belt torque -r f, hub force -(N n + f t)
                 let r = pc.lever;
                 let tv2 = Vector2::new(tau[0], tau[1]);
-                b.tq[j] = RowVector3::new(-r * cp.fric_x[0], -r * cp.fric_x[1], 0.0);
-                b.tv[j] = RowVector3::new(-r * cp.fric_v[0], -r * cp.fric_v[1], 0.0);
-                b.tz[j] = -r * cp.fric_z;
-                b.hq[j] = hub_row(&cp.f_x);
-                b.hv[j] = hub_row(&cp.f_v);
-                b.hz[j] = -cp.fric_z * tv2;
+                jac.impulse[i][j] = ImpulseColumns {
+                    tq: RowVector3::new(-r * cp.fric_x[0], -r * cp.fric_x[1], 0.0),
+                    tv: RowVector3::new(-r * cp.fric_v[0], -r * cp.fric_v[1], 0.0),
+                    tz: -r * cp.fric_z,
+                    hq: hub_row(&cp.f_x),
+                    hv: hub_row(&cp.f_v),
+                    hz: -cp.fric_z * tv2,
+                };
                 if free {
                     jac.tw[j] += -r * cp.fric_w;
                     jac.hw[j] += -cp.fric_w * tv2;
@@ -948,12 +969,14 @@ impl BeltSystem {
             b.gq += d.creep_q;
             b.gv += d.creep_u;
             // impulse rows: belt torque -sum lever f, hub force -F
-            b.tq[j] = -d.torque_q;
-            b.tv[j] = -d.torque_u;
-            b.tz[j] = -d.torque_z;
-            b.hq[j] = -d.force_q;
-            b.hv[j] = -d.force_u;
-            b.hz[j] = -d.force_z;
+            jac.impulse[i][j] = ImpulseColumns {
+                tq: -d.torque_q,
+                tv: -d.torque_u,
+                tz: -d.torque_z,
+                hq: -d.force_q,
+                hv: -d.force_u,
+                hz: -d.force_z,
+            };
             let k = -pc.balance_partials().1;
             if free {
                 b.aw[j] += acc(d.force_w, d.moment_w);
@@ -1218,7 +1241,7 @@ mod tests {
                 "moment row"
             );
             assert!(
-                jac.bodies.iter().any(|b| b.hq[0][(0, 2)] != 0.0),
+                jac.impulse.iter().any(|b| b[0].hq[(0, 2)] != 0.0),
                 "angle column"
             );
             let cols = check(sys, 0.02, &y);

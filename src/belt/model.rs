@@ -1262,9 +1262,21 @@ impl BeltSystem {
     /// given): a contact point of the body inside the pulley's contact
     /// radius (the centre with one point). The test of [`Self::after_step`]
     /// (and of the modal analysis' contact regions).
+    #[inline]
     pub fn touching(&self, i: usize, y: &[f64], centres: &[[f64; 2]]) -> Option<usize> {
         let o = BODY_DOF * i;
         let (x, yy) = (y[o], y[o + 1]);
+        if self.points == 1 {
+            // the centre: the test below with xi h = 0 (its reach holds the
+            // centre's circle)
+            return self.pulleys[..self.np]
+                .iter()
+                .zip(centres)
+                .position(|(pc, c)| {
+                    let (rx, ry) = (x - c[0], yy - c[1]);
+                    rx * rx + ry * ry < pc.radii[0] * pc.radii[0]
+                });
+        }
         let mut pulleys = self.pulleys[..self.np].iter().zip(centres);
         // no point of a body lies farther than l/2 from its centre: a body
         // out of every pulley's reach touches none (the common case, and
