@@ -1,15 +1,17 @@
 //! Modal analysis of a drive (`cargo xtask modes -- ...`, docs/modes.md):
 //! natural frequencies, damping ratios and mode descriptions about the
 //! mounted static state, or about the steady running state at each crank
-//! (pulley 1) speed, written to `dist/modes.csv`.
+//! (pulley 1) speed (the Floquet analysis about its periodic orbit), written
+//! to `dist/modes.csv`.
 //!
 //! ```text
 //! cargo run --release --features modes --example modes -- [--ssv FILE] [--set NAME=VALUE ...]
-//!     [--speeds FROM:TO:N] [--at TIME] [--fmax HZ] [--out FILE] [--floquet]
+//!     [--speeds FROM:TO:N] [--at TIME] [--fmax HZ] [--out FILE] [--frozen]
 //! ```
 //!
-//! `--floquet`: at running speeds, the Floquet analysis about the periodic
-//! running state instead of the frozen-time one.
+//! `--frozen`: at running speeds, the frozen-time approximation (one
+//! instant's Jacobian with the belt's transport) instead of the Floquet
+//! analysis.
 
 use belt_drive::modes::{adapter, analyse, floquet, params, Modes, Options, FLOQUET_SUBSTEPS};
 use std::io::Write;
@@ -24,11 +26,11 @@ struct Args {
     at: Option<f64>,
     fmax: f64,
     out: PathBuf,
-    floquet: bool,
+    frozen: bool,
 }
 
 const USAGE: &str = "usage: modes [--ssv FILE] [--set NAME=VALUE ...] [--speeds FROM:TO:N] \
-                     [--at TIME] [--fmax HZ] [--out FILE] [--floquet]";
+                     [--at TIME] [--fmax HZ] [--out FILE] [--frozen]";
 
 fn parse() -> Result<Args, String> {
     let mut a = Args {
@@ -38,7 +40,7 @@ fn parse() -> Result<Args, String> {
         at: None,
         fmax: 2000.0,
         out: PathBuf::from("dist/modes.csv"),
-        floquet: false,
+        frozen: false,
     };
     let mut it = std::env::args().skip(1);
     while let Some(k) = it.next() {
@@ -55,7 +57,7 @@ fn parse() -> Result<Args, String> {
             "--at" => a.at = Some(num(val()?, "--at")?),
             "--fmax" => a.fmax = num(val()?, "--fmax")?,
             "--out" => a.out = PathBuf::from(val()?),
-            "--floquet" => a.floquet = true,
+            "--frozen" => a.frozen = true,
             "--speeds" => {
                 let s = val()?;
                 let p: Vec<&str> = s.split(':').collect();
@@ -123,7 +125,7 @@ fn run() -> Result<(), String> {
         let t_run = t0.elapsed().as_secs_f64();
         let lin = adapter::linearise(&drive);
         let t1 = Instant::now();
-        let modes = if a.floquet && o.transport {
+        let modes = if !a.frozen && o.transport {
             floquet(&drive, &o, FLOQUET_SUBSTEPS)?
         } else {
             analyse(&lin, &o)?
@@ -141,6 +143,13 @@ fn run() -> Result<(), String> {
                     .collect::<Vec<_>>()
                     .join(", ")
             );
+            if orbit.defect() > 2.0 * belt_drive::modes::floquet::ORBIT_TOL {
+                eprintln!(
+                    "speed {w:.1} rad/s: WARNING: the settling did not reach a periodic orbit \
+                     (defect {:.1e}); these modes are about a trajectory near it",
+                    orbit.defect()
+                );
+            }
         }
         eprintln!(
             "speed {w:.1} rad/s at t = {at} s: {} modes up to {} Hz, {} above; {} zero modes, \

@@ -1250,6 +1250,12 @@ impl BeltSystem {
         }
         for i in 0..self.n {
             let o = BODY_DOF * i;
+            // a creep of +0 stays +0 either way (reset, or clamped): only
+            // the bodies that carry a creep, those on or just off a wrap,
+            // need the contact test
+            if y[o + 6].to_bits() == 0 {
+                continue;
+            }
             y[o + 6] = if self.touching(i, y, &centres).is_some() {
                 y[o + 6].clamp(-cap, cap)
             } else {

@@ -3,7 +3,9 @@
 //! (docs/modes.md).
 //!
 //! * About the mounted static state: the Jacobian itself.
-//! * About steady running: the Jacobian at one instant, written for
+//! * About steady running: the Floquet analysis about the periodic running
+//!   state ([`floquet()`], module [`floquet`]), or its frozen-time
+//!   approximation: the Jacobian at one instant, written for
 //!   perturbations seen at fixed places along the belt path (each body's
 //!   position and velocity in its own tangent/normal frame, plus the
 //!   transport of the belt past those places, `-(1/P) D`, P the time the
@@ -235,22 +237,10 @@ fn system_matrix(lin: &Linearisation, transport: bool) -> (Vec<f64>, f64) {
             a[q * dim + p] -= w;
         }
     }
-    // Belt speed in bodies per second, and its direction along the index.
-    let mut speed = 0.0;
-    let mut pitch = 0.0;
-    let mut dir = 0.0;
-    for i in 0..n {
-        let k = (i + 1) % n;
-        let d = [
-            lin.y[lin.body(k, 0)] - lin.y[lin.body(i, 0)],
-            lin.y[lin.body(k, 1)] - lin.y[lin.body(i, 1)],
-        ];
-        let v = [lin.y[lin.body(i, 3)], lin.y[lin.body(i, 4)]];
-        speed += v[0].hypot(v[1]);
-        pitch += d[0].hypot(d[1]);
-        dir += v[0] * d[0] + v[1] * d[1];
-    }
-    let rate = dir.signum() * speed / pitch;
+    // Bodies passing a place per second, with the direction along the index:
+    // one over the body-passing period of the Floquet analysis.
+    let (period, dir) = floquet::passing_period(lin);
+    let rate = dir / period;
     // Transport: perturbations at fixed places, d/dt = material - rate D.
     // The creep states are left out: a body's creep is reset when it leaves
     // the pulley, so it does not travel with the belt as a field.

@@ -304,7 +304,7 @@ fn test(args: &[String]) -> Result<()> {
 }
 
 /// `cargo xtask modes -- [--ssv FILE] [--set NAME=VALUE ...] [--speeds FROM:TO:N]
-/// [--at TIME] [--fmax HZ] [--out FILE] [--floquet]`: the modal analysis
+/// [--at TIME] [--fmax HZ] [--out FILE] [--frozen]`: the modal analysis
 /// (`examples/modes.rs`) writes the CSV (default `dist/modes.csv`); with
 /// `--speeds` the Campbell diagram is drawn beside it (`campbell.png`, by
 /// `examples/campbell.py` with matplotlib from `.venv`).

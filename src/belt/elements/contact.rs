@@ -19,7 +19,6 @@ pub fn smoothstep(x: f64) -> f64 {
 /// pulley (each wrap has its own equilibrium penetration, see
 /// [`auto_p_max`]): the methods take its inverse `inv_p_max`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-#[allow(missing_docs)]
 pub struct ContactLaw {
     /// Quadratic stiffness [N/m^2].
     pub c1: f64,
@@ -414,13 +413,18 @@ pub fn resting_force(law: &ContactLaw, radius: f64, p: f64, hl: f64, points: usi
 /// ([`point_levers`]), the friction coefficients (the body's zone factor
 /// applied) and the damping ramp.
 #[derive(Clone, Copy, Debug, PartialEq)]
-#[allow(missing_docs)]
 pub struct PulleySide<'a> {
+    /// Contact radius of each point [m].
     pub radii: &'a [f64],
+    /// Pulley speed [rad/s].
     pub omega: f64,
+    /// Friction lever of each point [m].
     pub levers: &'a [f64],
+    /// Static friction coefficient.
     pub mu_s: f64,
+    /// Kinetic friction coefficient.
     pub mu_k: f64,
+    /// Inverse length of the damping ramp [1/m].
     pub inv_p_max: f64,
 }
 
@@ -428,12 +432,16 @@ pub struct PulleySide<'a> {
 /// relative to the pulley centre, half vector `h` = l/2 (cos phi, sin phi),
 /// spin `w`, creep displacement `z`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-#[allow(missing_docs)]
 pub struct BodySide {
+    /// Centre relative to the pulley centre [m].
     pub r: [f64; 2],
+    /// Velocity relative to the pulley centre [m/s].
     pub v: [f64; 2],
+    /// Half vector l/2 (cos phi, sin phi) [m].
     pub h: [f64; 2],
+    /// Spin [rad/s].
     pub w: f64,
+    /// Creep displacement [m].
     pub z: f64,
 }
 
@@ -475,23 +483,36 @@ pub struct Segment {
 /// position q = (x, y, phi), velocity u = (vx, vy, omega), creep z and the
 /// pulley speed.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-#[allow(missing_docs)]
 pub struct SegmentPartials {
+    /// Of the force, by q.
     pub force_q: Matrix2x3<f64>,
+    /// Of the force, by u.
     pub force_u: Matrix2x3<f64>,
+    /// Of the force, by z.
     pub force_z: Vector2<f64>,
+    /// Of the force, by the pulley speed.
     pub force_w: Vector2<f64>,
+    /// Of the moment, by q.
     pub moment_q: RowVector3<f64>,
+    /// Of the moment, by u.
     pub moment_u: RowVector3<f64>,
+    /// Of the moment, by z.
     pub moment_z: f64,
+    /// Of the moment, by the pulley speed.
     pub moment_w: f64,
+    /// Of the torque on the pulley, by q.
     pub torque_q: RowVector3<f64>,
+    /// Of the torque on the pulley, by u.
     pub torque_u: RowVector3<f64>,
+    /// Of the torque on the pulley, by z.
     pub torque_z: f64,
+    /// Of the torque on the pulley, by the pulley speed.
     pub torque_w: f64,
-    /// Of the creep rate (zero while it is held at the cap).
+    /// Of the creep rate (zero while it is held at the cap), by q.
     pub creep_q: RowVector3<f64>,
+    /// Of the creep rate, by u.
     pub creep_u: RowVector3<f64>,
+    /// Of the creep rate, by the pulley speed.
     pub creep_w: f64,
 }
 
@@ -517,18 +538,28 @@ impl ContactLaw {
 /// inside its circle); computed, not branched, elsewhere, so that a loop
 /// over the bodies vectorises.
 #[derive(Clone, Copy, Debug, PartialEq)]
-#[allow(missing_docs)]
 pub struct PointContact {
+    /// Offset xi h from the body centre [m].
     pub a: [f64; 2],
+    /// `a` turned by +90 degrees [m].
     pub pa: [f64; 2],
+    /// Velocity of the point [m/s].
     pub vg: [f64; 2],
+    /// Geometry against the point's contact circle.
     pub kin: ContactKin,
+    /// Normal force [N].
     pub normal: f64,
+    /// Its elastic part [N].
     pub elastic: f64,
+    /// The elastic part's rate [N/s].
     pub elastic_rate: f64,
+    /// Friction force mu N along the tangent [N].
     pub f: f64,
+    /// Contact force on the body [N].
     pub force: [f64; 2],
+    /// Its moment about the body centre [N m].
     pub moment: f64,
+    /// Power the point dissipates [W].
     pub dissipation: f64,
 }
 
