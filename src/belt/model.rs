@@ -396,6 +396,67 @@ impl std::fmt::Debug for Workspace {
     }
 }
 
+/// The bodies `lo..hi` of a block (`len` bodies) whose centres lie within
+/// `r2` (a squared radius) of the pulley centre `centre`: the one arc a
+/// pulley's contact loop runs over, `None` when no body is that close.
+/// Vectorised: every lane is tested, the padding masked.
+#[inline(always)]
+fn arc_range(b: &Block, len: usize, centre: &[f64; 4], r2: f64) -> Option<(usize, usize)> {
+    let (cx, cy) = (centre[0], centre[1]);
+    let (mut lo, mut hi) = (len, 0);
+    let end = padded(len);
+    assert!(end < BLOCK + 1 + PAD);
+    for j in 0..end {
+        let (rx, ry) = (b.x[j + 1] - cx, b.y[j + 1] - cy);
+        let inside = (rx * rx + ry * ry < r2) & (j < len);
+        lo = lo.min(if inside { j } else { len });
+        hi = hi.max(if inside { j + 1 } else { 0 });
+    }
+    (lo < hi).then_some((lo, hi))
+}
+
+/// Adds the contact forces, creep rates (and, with `moments`, the contact
+/// moments) of pulley `q` on the arc `lo..hi` to the bodies' own, reports
+/// each contact to the recorder, and returns the arc's moment about the
+/// pulley axis, its power and the sum of its forces on the bodies.
+#[inline(always)]
+fn collect_arc<R: Recorder>(
+    b: &mut Block,
+    i0: usize,
+    q: usize,
+    lo: usize,
+    hi: usize,
+    moments: bool,
+    rec: &mut R,
+) -> (f64, f64, [f64; 2]) {
+    let end = lo + padded(hi - lo);
+    for j in lo..end {
+        b.ofx[j] += b.cfx[j];
+        b.ofy[j] += b.cfy[j];
+        b.dz[j] += b.cdz[j];
+    }
+    if moments {
+        for j in lo..end {
+            b.otq[j] += b.cmq[j];
+        }
+    }
+    if R::ACTIVE {
+        for j in lo..hi {
+            let v = b.rec_q[j];
+            if v[6] != 0.0 {
+                rec.contact(i0 + j, q, v[0], v[1], v[2], v[3]);
+                rec.belt_loss(v[7]);
+                rec.creep_spring_power(v[8]);
+            }
+        }
+    }
+    (
+        sum(&b.torque_q[lo..hi]),
+        sum(&b.diss_q[lo..hi]),
+        [sum(&b.cfx[lo..hi]), sum(&b.cfy[lo..hi])],
+    )
+}
+
 /// Sum in four interleaved partial sums (vectorises).
 #[inline(always)]
 fn sum(v: &[f64]) -> f64 {
@@ -1091,21 +1152,11 @@ impl BeltSystem {
         rec: &mut R,
         friction: &impl Law,
     ) -> (f64, f64, [f64; 2]) {
-        let (cx, cy) = (centre[0], centre[1]);
         // the bodies lo..hi span every body inside the circle (usually one
         // arc); the rest of the block is skipped
-        let (mut lo, mut hi) = (len, 0);
-        let end = padded(len);
-        assert!(end < BLOCK + 1 + PAD);
-        for j in 0..end {
-            let (rx, ry) = (b.x[j + 1] - cx, b.y[j + 1] - cy);
-            let inside = (rx * rx + ry * ry < pc.radius2) & (j < len);
-            lo = lo.min(if inside { j } else { len });
-            hi = hi.max(if inside { j + 1 } else { 0 });
-        }
-        if lo >= hi {
+        let Some((lo, hi)) = arc_range(b, len, centre, pc.radius2) else {
             return (0.0, 0.0, [0.0; 2]);
-        }
+        };
         // columns of bodies lo..hi (separate slices: no aliasing, no bounds
         // checks, the loop vectorises)
         let end = lo + padded(hi - lo);
@@ -1131,26 +1182,7 @@ impl BeltSystem {
             &mut b.diss_q[lo..end],
             R::ACTIVE.then_some(&mut b.rec_q[lo..end]),
         );
-        for j in lo..end {
-            b.ofx[j] += b.cfx[j];
-            b.ofy[j] += b.cfy[j];
-            b.dz[j] += b.cdz[j];
-        }
-        if R::ACTIVE {
-            for j in lo..hi {
-                let v = b.rec_q[j];
-                if v[6] != 0.0 {
-                    rec.contact(i0 + j, q, v[0], v[1], v[2], v[3]);
-                    rec.belt_loss(v[7]);
-                    rec.creep_spring_power(v[8]);
-                }
-            }
-        }
-        (
-            sum(&b.torque_q[lo..hi]),
-            sum(&b.diss_q[lo..hi]),
-            [sum(&b.cfx[lo..hi]), sum(&b.cfy[lo..hi])],
-        )
+        collect_arc(b, i0, q, lo, hi, false, rec)
     }
 
     /// [`Self::contacts`] with the contact along the body (more than one
@@ -1173,20 +1205,9 @@ impl BeltSystem {
         rec: &mut R,
         law: &impl Law,
     ) -> (f64, f64, [f64; 2]) {
-        let (cx, cy) = (centre[0], centre[1]);
-        let reach2 = pc.reach * pc.reach;
-        let (mut lo, mut hi) = (len, 0);
-        let end = padded(len);
-        assert!(end < BLOCK + 1 + PAD);
-        for j in 0..end {
-            let (rx, ry) = (b.x[j + 1] - cx, b.y[j + 1] - cy);
-            let near = (rx * rx + ry * ry < reach2) & (j < len);
-            lo = lo.min(if near { j } else { len });
-            hi = hi.max(if near { j + 1 } else { 0 });
-        }
-        if lo >= hi {
+        let Some((lo, hi)) = arc_range(b, len, centre, pc.reach * pc.reach) else {
             return (0.0, 0.0, [0.0; 2]);
-        }
+        };
         let end = lo + padded(hi - lo);
         let body = [
             &b.x[lo + 1..=end],
@@ -1217,27 +1238,7 @@ impl BeltSystem {
             5 => contact_along_arc::<5>(self, pc, centre, omega, law, valid, body, out),
             k => unreachable!("contact.points = {k} along the body"),
         }
-        for j in lo..end {
-            b.ofx[j] += b.cfx[j];
-            b.ofy[j] += b.cfy[j];
-            b.dz[j] += b.cdz[j];
-            b.otq[j] += b.cmq[j];
-        }
-        if R::ACTIVE {
-            for j in lo..hi {
-                let v = b.rec_q[j];
-                if v[6] != 0.0 {
-                    rec.contact(i0 + j, q, v[0], v[1], v[2], v[3]);
-                    rec.belt_loss(v[7]);
-                    rec.creep_spring_power(v[8]);
-                }
-            }
-        }
-        (
-            sum(&b.torque_q[lo..hi]),
-            sum(&b.diss_q[lo..hi]),
-            [sum(&b.cfx[lo..hi]), sum(&b.cfy[lo..hi])],
-        )
+        collect_arc(b, i0, q, lo, hi, true, rec)
     }
 
     /// Discrete update after every accepted step: the creep displacement of a
