@@ -1083,20 +1083,34 @@ fn wrap_pitching_is_the_closed_form_with_both_integrators() {
 
 /// The accessory drive's first rotational mode in steady running, by the
 /// Floquet analysis, against the time domain. parameters/accessory-drive-4.ssv
-/// at idle (crank 84 rad/s, stiff method, run to 0.8 s): the lowest lightly
-/// damped (zeta < 0.1) running mode, the alternator's rotation on its small
-/// pulley. The same running state is then run twice by the core for 0.25 s:
-/// as it is, and with the alternator's speed kicked by 5 rad/s (2.4 % of its
-/// 209 rad/s). The difference of the two alternator speeds (sampled every
-/// 0.1 ms) is the linear response about the running state, free of the
-/// run-up's residual vibration, which both runs share; its Hann-windowed
-/// spectral peak within +-30 % of the prediction must lie within 5 % of it
-/// (the figure: the analysis is a linearisation of the very model
-/// that runs; the 0.25 s window resolves 4 Hz and locates an isolated peak to
-/// a small fraction of it). Measured: see the printout.
+/// at idle (crank 84 rad/s, stiff method at relTol 1e-6, absTol 1e-8, run to
+/// 0.8 s): the lowest lightly damped (zeta < 0.1) running mode, the
+/// alternator's rotation on its small pulley. The same running state is then
+/// run twice by the core for 0.25 s: as it is, and with the alternator's
+/// speed kicked by 2 rad/s (1 % of its 209 rad/s). The difference of the two
+/// alternator speeds (sampled every 0.1 ms) is the response about the
+/// running state, free of the run-up's residual vibration, which both runs
+/// share (the tight tolerance keeps the two runs' integration error far
+/// below it: at relTol 1e-4 a 1 rad/s kick gave a peak only 40 x the band's
+/// floor, 4.7 % off); its Hann-windowed spectral peak within +-30 % of the
+/// prediction must lie within 5 % of it (the figure: the analysis
+/// is a linearisation of the very model that runs; the 0.25 s window
+/// resolves 4 Hz and locates an isolated peak to a small fraction of it).
+/// Measured: 67.11 Hz predicted, 66.17 Hz in the time domain (-1.4 %, peak
+/// 576 x the floor). The decay of the response is printed beside the
+/// predicted damping ratio; it is not asserted (the demodulated amplitude
+/// does not decay as one exponential: zeta 0.045-0.058 from it, against
+/// 0.037 predicted).
 #[test]
 fn accessory_running_rotational_mode_rings_in_the_time_domain() {
-    let p = ssv("accessory-drive-4.ssv", &["solver.method=2"]);
+    let p = ssv(
+        "accessory-drive-4.ssv",
+        &[
+            "solver.method=2",
+            "solver.relTol=1e-6",
+            "solver.absTol=1e-8",
+        ],
+    );
     let mut drive = adapter::build(&p).expect("valid drive");
     adapter::run_to(&mut drive, 0.8).expect("run-up");
     let m = belt_drive::modes::floquet(
@@ -1134,7 +1148,7 @@ fn accessory_running_rotational_mode_rings_in_the_time_domain() {
     let alternator = adapter::linearise(&drive).pulley(2).1;
     let mut kicked = drive.clone();
     let mut y = adapter::state(&kicked).to_vec();
-    y[alternator] += 5.0;
+    y[alternator] += 2.0;
     adapter::set_state(&mut kicked, &y).expect("state");
     let (dt, t0) = (1e-4, drive.time());
     let mut response = Vec::new();
@@ -1154,4 +1168,36 @@ fn accessory_running_rotational_mode_rings_in_the_time_domain() {
     );
     assert!(height > 3.0, "no clear peak: {height}");
     assert!(err.abs() < 0.05, "{err:+.4}");
+    // decay: the response demodulated at the peak over windows of two
+    // cycles, the slope of the log of their amplitudes
+    let w = std::f64::consts::TAU * peak;
+    let per = (2.0 / (peak * dt)).round() as usize;
+    let pts: Vec<(f64, f64)> = response
+        .chunks_exact(per)
+        .enumerate()
+        .map(|(j, chunk)| {
+            let (mut re, mut im) = (0.0, 0.0);
+            for (i, v) in chunk.iter().enumerate() {
+                let t = (j * per + i) as f64 * dt;
+                re += v * (w * t).cos();
+                im -= v * (w * t).sin();
+            }
+            ((j as f64 + 0.5) * per as f64 * dt, re.hypot(im).ln())
+        })
+        .collect();
+    let n = pts.len() as f64;
+    let (mt, ma) = (
+        pts.iter().map(|p| p.0).sum::<f64>() / n,
+        pts.iter().map(|p| p.1).sum::<f64>() / n,
+    );
+    let slope = pts.iter().map(|p| (p.0 - mt) * (p.1 - ma)).sum::<f64>()
+        / pts.iter().map(|p| (p.0 - mt).powi(2)).sum::<f64>();
+    eprintln!(
+        "decay: {:?}; zeta from the time domain {:.4}, Floquet {:.4}",
+        pts.iter()
+            .map(|p| format!("{:.3}", p.1))
+            .collect::<Vec<_>>(),
+        -slope / w,
+        light[0].damping_ratio
+    );
 }
