@@ -34,9 +34,9 @@
 //! `valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*rhs_loop*' <bench binary> count-rhs 150 2000`.
 
 mod common;
-use belt_drive::belt::model::{NoRecord, Workspace};
 use belt_drive::belt::params::Method;
 use belt_drive::belt::simd::Isa as SimdBuild;
+use belt_drive::belt::system::{NoRecord, Workspace};
 use belt_drive::belt::{Drive, DriveParams, FrictionLaw, Inputs, Outputs};
 use common::{cpu_time, median};
 

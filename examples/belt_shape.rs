@@ -18,8 +18,8 @@
 use std::fmt::Write as _;
 use std::io::Write as _;
 
-use belt_drive::belt::model::{Recorder, Workspace, BODY_DOF};
 use belt_drive::belt::params::Method;
+use belt_drive::belt::system::{Recorder, Workspace, BODY_DOF};
 use belt_drive::belt::{Drive, DriveParams};
 
 /// SDE tensions of one right-hand-side evaluation.

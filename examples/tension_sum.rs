@@ -11,8 +11,8 @@
 //! `cargo run --release --example tension_sum -- [bodies] [method 1|2]
 //! [relTol] [law creep|kubas2014] [dv]`
 
-use belt_drive::belt::model::{Recorder, Workspace};
 use belt_drive::belt::params::Method;
+use belt_drive::belt::system::{Recorder, Workspace};
 use belt_drive::belt::{Drive, DriveParams, FrictionLaw};
 
 /// Per-snapshot record: SDE tensions and gap midpoints, penetrations and

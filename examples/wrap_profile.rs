@@ -8,8 +8,8 @@
 //! `cargo run --profile ci --example wrap_profile -- [5pk|2to1] [bodies]
 //! [bin width, degrees]`
 
-use belt_drive::belt::model::{Recorder, Workspace, BODY_DOF};
 use belt_drive::belt::params::{Method, PulleyParams};
+use belt_drive::belt::system::{Recorder, Workspace, BODY_DOF};
 use belt_drive::belt::{Drive, DriveParams};
 
 #[path = "common/two_to_one.rs"]

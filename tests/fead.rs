@@ -6,7 +6,7 @@
 
 mod common;
 
-use belt_drive::belt::model::BODY_DOF;
+use belt_drive::belt::system::BODY_DOF;
 use belt_drive::belt::{Drive, DriveParams, FrictionLaw};
 use common::*;
 use std::f64::consts::PI;

@@ -3,7 +3,7 @@
 
 mod common;
 
-use belt_drive::belt::model::BODY_DOF;
+use belt_drive::belt::system::BODY_DOF;
 use belt_drive::belt::{Drive, DriveParams, FrictionLaw};
 use belt_drive::fmu::names;
 use common::*;

@@ -6,15 +6,15 @@ use super::elements::friction::Law;
 use super::iteration_matrix::IterationMatrix;
 use super::jacobian::Jacobian;
 use super::layout::Layout;
-use super::model::{
-    BeltSystem, Inputs, NoRecord, Recorder, Relaxation, Workspace, BODY_DOF, IMPULSES,
-};
 use super::param_id::{msg, Message, Param, Part};
 use super::params::{DriveParams, Method, ParamError, MAX_PULLEYS, PROBE_AUTO};
 use super::rkf45::Rkf45;
 use super::rosenbrock::{Rosenbrock, StiffSystem};
 use super::solver_params::TUNING;
 use super::stepping::{OdeSystem, Stats, StepControl, StepFailure};
+use super::system::{
+    BeltSystem, Inputs, NoRecord, Recorder, Relaxation, Workspace, BODY_DOF, IMPULSES,
+};
 
 impl OdeSystem for BeltSystem {
     type Workspace = Workspace;

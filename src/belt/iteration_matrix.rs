@@ -22,9 +22,9 @@
 //! allocation after construction.
 
 use super::jacobian::{BodyArmJacobian, BodyJacobian, Jacobian, NEXT, PREV, SELF};
-use super::model::{BeltSystem, BODY_DOF};
 use super::params::MAX_PULLEYS;
 use super::simd::{self, Isa};
+use super::system::{BeltSystem, BODY_DOF};
 use nalgebra::{Matrix2, Matrix3, RowVector3, SMatrix, SVector, Vector2, Vector3};
 
 /// The factors for a border of `NB` unknowns: body n-1 (3), the free

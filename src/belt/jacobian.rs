@@ -1,4 +1,4 @@
-//! Analytic Jacobian of the belt's right-hand side (model.rs), for the
+//! Analytic Jacobian of the belt's right-hand side (system.rs), for the
 //! implicit integrator. Stored by blocks, as the physics couples them:
 //!
 //! * each body's acceleration depends on its own and its two neighbours'
@@ -30,9 +30,9 @@
 use super::elements::contact;
 use super::elements::friction::{with_law, Law};
 use super::elements::sde::{self, BodyEnd};
-use super::model::{BeltSystem, BODY_DOF};
 use super::params::MAX_PULLEYS;
 use super::simd::{self, Isa};
+use super::system::{BeltSystem, BODY_DOF};
 use super::trig;
 use nalgebra::{Matrix2, Matrix2x3, Matrix3, RowVector3, SMatrix, Vector2, Vector3};
 
@@ -907,7 +907,7 @@ impl BeltSystem {
         i: usize,
         y: &[f64],
         omega_p: &[f64; MAX_PULLEYS],
-        pulleys: &[super::model::PulleyConst; MAX_PULLEYS],
+        pulleys: &[super::system::PulleyConst; MAX_PULLEYS],
         centre: &[[f64; 4]; MAX_PULLEYS],
         hub_force: &mut [[f64; 2]; MAX_PULLEYS],
         jac: &mut Jacobian,
@@ -1042,8 +1042,8 @@ fn hub_row(partials: &Matrix2<f64>) -> Matrix2x3<f64> {
 mod tests {
     use super::*;
     use crate::belt::drive::Drive;
-    use crate::belt::model::{NoRecord, Workspace};
     use crate::belt::params::{DriveParams, FrictionLaw, PulleyParams};
+    use crate::belt::system::{NoRecord, Workspace};
 
     /// A small two-pulley drive (r = 50 and 45 mm) with 36 bodies at 120 N
     /// and the automatic contact damping ramp, which differs between the

@@ -12,9 +12,9 @@
 //! `c_j - s_j r_j n(t)`, n(t) the left normal of t.
 
 use super::elements::contact::{resting_force, ContactLaw};
-use super::model::wrap_angle;
 use super::param_id::{msg, Param, Part};
 use super::params::{param_error, DriveParams, ParamError, MAX_BODIES};
+use super::system::wrap_angle;
 use std::f64::consts::TAU;
 
 /// A free span: the common tangent from one pulley to the next.

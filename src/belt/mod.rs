@@ -9,7 +9,7 @@
 //!   friction, pulley drive and load, V-groove, one-way decoupler,
 //!   tensioner arm) with
 //!   partials, energy and dissipation;
-//! * [`model`]: equations of motion, eq. 20-24 (the right-hand side);
+//! * [`system`]: the drive's equations of motion, eq. 20-24 (`BeltSystem`, the right-hand side);
 //! * [`solver_params`]: every internal solver knob with its value and why;
 //! * [`stepping`]: adaptive step-size control shared by the integrators;
 //! * [`rkf45`]: the adaptive Runge-Kutta-Fehlberg 4(5) integrator;
@@ -25,7 +25,6 @@ pub mod elements;
 pub mod iteration_matrix;
 pub mod jacobian;
 pub mod layout;
-pub mod model;
 pub mod param_id;
 pub mod params;
 pub mod rkf45;
@@ -33,8 +32,9 @@ pub mod rosenbrock;
 pub mod simd;
 pub mod solver_params;
 pub mod stepping;
+pub mod system;
 pub mod trig;
 
 pub use drive::{Drive, Outputs};
-pub use model::Inputs;
 pub use params::{DriveParams, FrictionLaw, ParamError};
+pub use system::Inputs;

@@ -128,7 +128,7 @@ unsafe fn avx512<A, T>(args: A, f: impl FnOnce(A) -> T) -> T {
     f(args)
 }
 
-/// Values per body in the state vector (`model::BODY_DOF`).
+/// Values per body in the state vector (`system::BODY_DOF`).
 const DOF: usize = 7;
 
 /// Copies `count` consecutive bodies of `src` (`[x, y, phi, vx, vy, omega,

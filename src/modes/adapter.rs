@@ -3,7 +3,7 @@
 //! Everything else in `modes` works on the [`Linearisation`] this returns.
 
 use crate::belt::jacobian::Jacobian;
-use crate::belt::model::BODY_DOF;
+use crate::belt::system::BODY_DOF;
 use crate::belt::{Drive, DriveParams};
 
 /// Values per body in the state (x, y, phi, vx, vy, omega, z).
