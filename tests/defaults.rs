@@ -413,13 +413,7 @@ fn integrators_agree_on_a_sixty_body_drive() {
 
 /// The 60-body drive of the test above.
 fn sixty_body_drive() -> DriveParams {
-    let mut p = DriveParams::default();
-    p.belt.n_bodies = 60;
-    p.belt.preload = 300.0;
-    p.probe_body = 0;
-    p.pulleys[0].radius = 0.05;
-    p.pulleys[1].radius = 0.05;
-    p.pulleys[1].x = 0.25;
+    let mut p = common::sixty_bodies();
     p.pulleys[0].torque_ramp = -2.0;
     p.pulleys[0].ramp_time = 0.05;
     p.pulleys[1].load_damping = 0.05;

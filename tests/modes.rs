@@ -853,13 +853,7 @@ fn arm_mode_rings_after_a_tap() {
 /// apart, the 5PK belt under 300 N, 13.6 mm bodies) with `points` contact
 /// points per body.
 fn sixty_body_at_rest(points: usize) -> DriveParams {
-    let mut p = DriveParams::default();
-    p.belt.n_bodies = 60;
-    p.belt.preload = 300.0;
-    p.probe_body = 0;
-    p.pulleys[0].radius = 0.05;
-    p.pulleys[1].radius = 0.05;
-    p.pulleys[1].x = 0.25;
+    let mut p = common::sixty_bodies();
     p.pulleys[0].torque_ramp = 0.0;
     p.contact.points = points;
     p

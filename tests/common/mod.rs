@@ -24,6 +24,20 @@ pub fn small_drive(law: FrictionLaw) -> DriveParams {
     p
 }
 
+/// The default drive re-meshed coarsely: 60 bodies on two 50 mm pulleys
+/// 0.25 m apart under 300 N (13.6 mm bodies, l = 0.27 r), the pulleys'
+/// torques and loads the defaults' (tests/defaults.rs, tests/modes.rs).
+pub fn sixty_bodies() -> DriveParams {
+    let mut p = DriveParams::default();
+    p.belt.n_bodies = 60;
+    p.belt.preload = 300.0;
+    p.probe_body = 0;
+    p.pulleys[0].radius = 0.05;
+    p.pulleys[1].radius = 0.05;
+    p.pulleys[1].x = 0.25;
+    p
+}
+
 /// Pulley 1 speed-driven at `omega` (reached by a 0.05 s ramp), pulley 2
 /// loaded by `load_damping * omega`.
 pub fn speed_driven(mut p: DriveParams, omega: f64, load_damping: f64) -> DriveParams {
