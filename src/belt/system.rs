@@ -1295,12 +1295,8 @@ impl BeltSystem {
         if !pulleys.clone().any(|(pc, c)| near(pc, c)) {
             return None;
         }
-        let (hx, hy) = if self.points > 1 {
-            let (s, c) = y[o + 2].sin_cos();
-            (self.half_length * c, self.half_length * s)
-        } else {
-            (0.0, 0.0)
-        };
+        let (s, c) = y[o + 2].sin_cos();
+        let (hx, hy) = (self.half_length * c, self.half_length * s);
         let quad = contact::quadrature(self.points);
         pulleys.position(|(pc, c)| {
             near(pc, c)
