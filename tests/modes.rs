@@ -246,6 +246,29 @@ fn running_floquet(p: &DriveParams) -> (Modes, Vec<f64>, f64) {
     (m, orbit.span_tension, orbit.belt_speed)
 }
 
+/// The axially moving string's first frequency f_1 = (c^2 - v^2) / (2 L c)
+/// [Hz] of a span of length `l` under tension `t` at belt speed `v`, and its
+/// wave speed c = sqrt(T / rho) [m/s], rho the belt's mass per length
+/// stretched by T.
+fn moving_string(p: &DriveParams, t: f64, v: f64, l: f64) -> (f64, f64) {
+    let rho = p.belt.mass_per_length / (1.0 + t / p.belt.ea);
+    let c = (t / rho).sqrt();
+    ((c * c - v * v) / (2.0 * l * c), c)
+}
+
+/// Prints the first `n` modes: frequency, damping ratio, label, energy share.
+fn print_modes(m: &Modes, n: usize) {
+    for x in m.modes.iter().take(n) {
+        eprintln!(
+            "{:8.3} Hz, zeta {:+.1e}: {} ({:.0} % of the energy)",
+            x.frequency_hz,
+            x.damping_ratio,
+            x.part.describe(),
+            100.0 * x.share
+        );
+    }
+}
+
 /// The axially moving string: f_1 = (c^2 - v^2) / (2 L c), c = sqrt(T/rho),
 /// T the span's tension in steady running, v the belt speed (7 m/s against
 /// c ~ 15 m/s: 21 % below the standing string, so the check tells them
@@ -269,22 +292,13 @@ fn running_floquet(p: &DriveParams) -> (Modes, Vec<f64>, f64) {
 fn running_span_mode_is_the_axially_moving_strings() {
     let p = heavy_running(120, Method::Rosenbrock);
     let (m, tensions, v) = running_floquet(&p);
-    for x in m.modes.iter().take(12) {
-        eprintln!(
-            "{:8.3} Hz, zeta {:+.1e}: {} ({:.0} % of the energy)",
-            x.frequency_hz,
-            x.damping_ratio,
-            x.part.describe(),
-            100.0 * x.share
-        );
-    }
+    print_modes(&m, 12);
     let l = 0.4;
     let mut laws: Vec<(f64, f64, f64)> = tensions[..2]
         .iter()
         .map(|&t| {
-            let rho = p.belt.mass_per_length / (1.0 + t / p.belt.ea);
-            let c = (t / rho).sqrt();
-            ((c * c - v * v) / (2.0 * l * c), t, c)
+            let (f, c) = moving_string(&p, t, v, l);
+            (f, t, c)
         })
         .collect();
     laws.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -334,19 +348,9 @@ fn running_span_modes_carry_their_own_span() {
     p.pulleys.push(third);
     let spans = [0.4, 0.5, 0.3];
     let (m, tensions, v) = running_floquet(&p);
-    for x in m.modes.iter().take(16) {
-        eprintln!(
-            "{:8.3} Hz, zeta {:+.1e}: {} ({:.0} % of the energy)",
-            x.frequency_hz,
-            x.damping_ratio,
-            x.part.describe(),
-            100.0 * x.share
-        );
-    }
+    print_modes(&m, 16);
     for (k, (&t, &l)) in tensions.iter().zip(&spans).enumerate() {
-        let rho = p.belt.mass_per_length / (1.0 + t / p.belt.ea);
-        let c = (t / rho).sqrt();
-        let law = (c * c - v * v) / (2.0 * l * c);
+        let (law, _) = moving_string(&p, t, v, l);
         let mode = m
             .modes
             .iter()
@@ -386,9 +390,7 @@ fn frozen_time_running_span_mode_is_approximate() {
         adapter::run_to(&mut drive, t).expect("run");
         let (tension, v) = adapter::span_tensions_and_speed(&mut drive);
         let t_mean = (tension[0] + tension[1]) / 2.0;
-        let rho = p.belt.mass_per_length / (1.0 + t_mean / p.belt.ea);
-        let c = (t_mean / rho).sqrt();
-        let law = (c * c - v * v) / (2.0 * l * c);
+        let (law, _) = moving_string(&p, t_mean, v, l);
         let lin = adapter::linearise(&drive);
         let opts = Options {
             transport: true,

@@ -574,49 +574,45 @@ mod tests {
 
     #[test]
     fn integer_ranges_come_from_the_table() {
+        // the refusal of one integer set alone on the default drive
+        let refused = |var: Var, value: i32| {
+            let mut m = BeltDrive::new();
+            m.set_integer(info(var), value).unwrap();
+            m.drive_params().unwrap_err()
+        };
+        for (var, value, message) in [
+            (Var::NPulleys, 7, "nPulleys must be in 2..=6 (got 7)"),
+            (
+                Var::FrictionZoneBodies,
+                -1,
+                "friction.zoneBodies must be >= 0 (got -1)",
+            ),
+            (
+                Var::ContactPoints,
+                6,
+                "contact.points must be in 1..=5 (got 6)",
+            ),
+            (
+                Var::SolverMaxSteps,
+                0,
+                "solver.maxSteps must be >= 1 (got 0)",
+            ),
+            (
+                Var::ProbeBody,
+                151,
+                "probe.body must be in 1..=150 or 0 (chosen automatically; got 151)",
+            ),
+            // the body numbers: 1-based, probe.body 0 the automatic choice
+            (Var::ProbeBody, -1, "probe.body must be >= 0 (got -1)"),
+            (
+                Var::FrictionZoneStart,
+                0,
+                "friction.zoneStart must be >= 1 (got 0)",
+            ),
+        ] {
+            assert_eq!(refused(var, value), message);
+        }
         let mut m = BeltDrive::new();
-        m.set_integer(info(Var::NPulleys), 7).unwrap();
-        assert_eq!(
-            m.drive_params().unwrap_err(),
-            "nPulleys must be in 2..=6 (got 7)"
-        );
-        let mut m = BeltDrive::new();
-        m.set_integer(info(Var::FrictionZoneBodies), -1).unwrap();
-        assert_eq!(
-            m.drive_params().unwrap_err(),
-            "friction.zoneBodies must be >= 0 (got -1)"
-        );
-        let mut m = BeltDrive::new();
-        m.set_integer(info(Var::ContactPoints), 6).unwrap();
-        assert_eq!(
-            m.drive_params().unwrap_err(),
-            "contact.points must be in 1..=5 (got 6)"
-        );
-        let mut m = BeltDrive::new();
-        m.set_integer(info(Var::SolverMaxSteps), 0).unwrap();
-        assert_eq!(
-            m.drive_params().unwrap_err(),
-            "solver.maxSteps must be >= 1 (got 0)"
-        );
-        let mut m = BeltDrive::new();
-        m.set_integer(info(Var::ProbeBody), 151).unwrap();
-        assert_eq!(
-            m.drive_params().unwrap_err(),
-            "probe.body must be in 1..=150 or 0 (chosen automatically; got 151)"
-        );
-        // the body numbers: 1-based, probe.body 0 the automatic choice
-        let mut m = BeltDrive::new();
-        m.set_integer(info(Var::ProbeBody), -1).unwrap();
-        assert_eq!(
-            m.drive_params().unwrap_err(),
-            "probe.body must be >= 0 (got -1)"
-        );
-        let mut m = BeltDrive::new();
-        m.set_integer(info(Var::FrictionZoneStart), 0).unwrap();
-        assert_eq!(
-            m.drive_params().unwrap_err(),
-            "friction.zoneStart must be >= 1 (got 0)"
-        );
         m.set_integer(info(Var::FrictionZoneStart), 150).unwrap();
         m.set_integer(info(Var::ProbeBody), 150).unwrap();
         let p = m.drive_params().unwrap();
