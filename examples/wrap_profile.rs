@@ -6,7 +6,8 @@
 //! (docs/validation.md, "Slip against the mesh").
 //!
 //! `cargo run --profile ci --example wrap_profile -- [5pk|2to1] [bodies]
-//! [bin width, degrees]`
+//! [bin width, degrees] [contact.points]` (the drive's own `contact.points`
+//! when not given or 0).
 
 use belt_drive::belt::params::{Method, PulleyParams};
 use belt_drive::belt::system::{Recorder, Workspace, BODY_DOF};
@@ -48,6 +49,10 @@ fn main() {
         DriveParams::kubas_section4()
     };
     p.belt.n_bodies = n;
+    let points: usize = arg(3, "0").parse().unwrap();
+    if points > 0 {
+        p.contact.points = points;
+    }
     p.probe_body = 0;
     p.solver.method = Method::Rosenbrock;
     p.solver.rel_tol = 1e-5;
@@ -115,8 +120,9 @@ fn main() {
         .collect();
     let loss = 1.0 - (w[1] * p.pulleys[1].radius).abs() / (w[0] * p.pulleys[0].radius).abs();
     println!(
-        "{which}, {n} bodies (l = {:.3} mm): speed loss {:.4} %, span tensions {:.1} / {:.1} N",
+        "{which}, {n} bodies (l = {:.3} mm), contact.points {}: speed loss {:.4} %, span tensions {:.1} / {:.1} N",
         l * 1e3,
+        p.contact.points,
         100.0 * loss,
         span[0],
         span[1]
