@@ -2,8 +2,8 @@
 (docs/validation.md, "Why a coarse mesh slips more"): the reduced model that
 accounts for the discrete belt's slip against the mesh.
 
-    .venv/bin/python examples/creep_wrap.py                      # the continuum and its sensitivities
-    .venv/bin/python examples/creep_wrap.py PROFILE [start_deg]  # check a wrap_profile run (5pk or 2to1)
+    .venv/bin/python examples/creep_wrap.py [5pk|2to1 [T1 T2]]   # the continuum and its sensitivities
+    .venv/bin/python examples/creep_wrap.py PROFILE [start_deg[,start_deg]]  # check a wrap_profile run
 
 A continuous belt (EA, no mass: 0.04 N of centrifugal force at 0.7 m/s) on a
 pulley of radius r with the FMU's `creep` friction law (docs/model.md,
@@ -27,7 +27,8 @@ unstrained.
 With a PROFILE (the output of `cargo run --profile ci --example wrap_profile
 -- 5pk|2to1 N BIN [points]`) the model starts each wrap from the simulated
 state (mean SDE tension and mean creep of the contacts) in the bin at
-`start_deg` (default: the first bin inside the wrap) of travel, integrates to
+`start_deg` (default: the first bin inside the wrap; two values: one per
+pulley) of travel, integrates to
 the tangent point where the belt leaves, and compares the speed loss with the
 simulated one.
 """
@@ -106,21 +107,27 @@ def speed_loss(e_driver, e_driven):
     return 1.0 - (1.0 + e_driven) / (1.0 + e_driver)
 
 
-def continuum(t1=838.6, t2=283.1):
+def continuum(drive, t1, t2):
     """Slip of a belt that enters both wraps unstrained, against rigid-adhesion
-    creep theory, and its sensitivity to the creep a belt brings onto each wrap."""
-    e1, e2 = stick_strain(t1, t2), stick_strain(t2, t1)
+    creep theory, and its sensitivity to the creep a belt brings onto each wrap
+    (pulley 1 drives; t1, t2 the tight and slack span tensions)."""
+    global SPEED
+    pulleys, SPEED = DRIVES[drive]
+    (r1, a1, b1), (r2, a2, b2) = pulleys
+    arc1, arc2 = r1 * (b1 - a1), r2 * (b2 - a2)
+    e1, e2 = stick_strain(t1, t2, 0.0, arc1, r1), stick_strain(t2, t1, 0.0, arc2, r2)
     base = speed_loss(e1, e2)
-    lam = [math.sqrt(EA * DMAX / (1.5 * MU_S * t / RADIUS)) for t in (t1, t2)]
-    print(f"span tensions {t1:.1f} / {t2:.1f} N, EA {EA:.3g} N, Delta_max {DMAX * 1e3:.2g} mm, "
-          f"mu_s {MU_S}, r {RADIUS * 1e3:.0f} mm")
+    lam = [math.sqrt(EA * DMAX / (1.5 * MU_S * t / r)) for t, r in ((t1, r1), (t2, r2))]
+    print(f"{drive}: span tensions {t1:.1f} / {t2:.1f} N, EA {EA:.3g} N, Delta_max {DMAX * 1e3:.2g} mm, "
+          f"mu_s {MU_S}, r {r1 * 1e3:.0f} / {r2 * 1e3:.0f} mm")
     print(f"creep length sqrt(EA Delta_max / (1.5 mu_s T / r)): {lam[0] * 1e3:.1f} mm on the "
-          f"driver's entry, {lam[1] * 1e3:.1f} mm on the driven pulley's (wrap {RADIUS * WRAP * 1e3:.0f} mm)")
+          f"driver's entry, {lam[1] * 1e3:.1f} mm on the driven pulley's (wraps {arc1 * 1e3:.0f} / "
+          f"{arc2 * 1e3:.0f} mm)")
     print(f"rigid-adhesion creep theory (T1 - T2) / (EA + T1): {100 * (t1 - t2) / (EA + t1):.4f} %")
     print(f"elastic creep, belt entering unstrained:           {100 * base:.4f} %")
     dz = 1e-6
-    d1 = speed_loss(stick_strain(t1, t2, dz), e2) - base
-    d2 = speed_loss(e1, stick_strain(t2, t1, dz)) - base
+    d1 = speed_loss(stick_strain(t1, t2, dz, arc1, r1), e2) - base
+    d2 = speed_loss(e1, stick_strain(t2, t1, dz, arc2, r2)) - base
     print(f"per um of creep brought onto the wrap (belt lagging the surface): driver {100 * d1:+.4f}, "
           f"driven {100 * d2:+.4f} points of slip")
 
@@ -147,7 +154,7 @@ def read_profile(path):
     return drive, loss, wraps
 
 
-def check(path, start_deg=None):
+def check(path, start=None):
     global SPEED
     drive, loss, wraps = read_profile(path)
     pulleys, SPEED = DRIVES[drive]
@@ -155,7 +162,7 @@ def check(path, start_deg=None):
     for j, w in enumerate(wraps):
         r, arrive, leave = pulleys[j]
         inside = sorted(d for d in w if w[d][1] is not None and math.radians(d) > arrive and d < 270.0)
-        deg = inside[0] if start_deg is None else min(inside, key=lambda d: abs(d - start_deg))
+        deg = inside[0] if start is None else min(inside, key=lambda d: abs(d - start[j % len(start)]))
         t_in, z_in = w[deg]
         # the span it leaves into: the mean SDE tension off the wrap over the
         # 40 deg after the tangent point where the belt leaves
@@ -168,7 +175,11 @@ def check(path, start_deg=None):
 
 
 if __name__ == "__main__":
-    if len(sys.argv) > 1:
-        check(sys.argv[1], float(sys.argv[2]) if len(sys.argv) > 2 else None)
+    if len(sys.argv) == 1 or sys.argv[1] in DRIVES:
+        drive = sys.argv[1] if len(sys.argv) > 1 else "5pk"
+        # default tensions: the 1200-body 5PK run and the 480-body 2:1 run
+        # (wrap_profile, means over 0.5-0.8 s)
+        t = [float(v) for v in sys.argv[2:4]] or {"5pk": [839.6, 284.1], "2to1": [712.7, 338.8]}[drive]
+        continuum(drive, *t)
     else:
-        continuum()
+        check(sys.argv[1], [float(v) for v in sys.argv[2].split(",")] if len(sys.argv) > 2 else None)
