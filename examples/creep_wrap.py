@@ -1,36 +1,35 @@
-"""The steady creep of a continuous belt on the wraps of the paper's 5PK drive
+"""The steady creep of a continuous belt on the wraps of a drive
 (docs/validation.md, "Why a coarse mesh slips more"): the reduced model that
 accounts for the discrete belt's slip against the mesh.
 
     .venv/bin/python examples/creep_wrap.py [5pk|2to1 [T1 T2]]   # the continuum and its sensitivities
-    .venv/bin/python examples/creep_wrap.py PROFILE [start_deg[,start_deg]]  # check a wrap_profile run
+    .venv/bin/python examples/creep_wrap.py PROFILE [start_deg[,start_deg...]]  # check a wrap_profile run
 
-A continuous belt (EA, no mass: 0.04 N of centrifugal force at 0.7 m/s) on a
-pulley of radius r with the FMU's `creep` friction law (docs/model.md,
-"Friction": mu = mu_s S(z / Delta_max) with its Kelvin-Voigt damper in the
-elastic range, softening to mu_k over Delta_max..1.5 Delta_max, held at
-1.5 Delta_max), in steady running. Along the arc x in the belt's direction of
-travel a belt element carries its creep displacement z (the travel of the
-pulley surface relative to the belt since the element arrived; z > 0: the belt
-lags the surface) and its tension T:
+A continuous belt (EA, mass m' per length) on a pulley of radius r with the
+FMU's `creep` friction law (docs/model.md, "Friction": mu = mu_s S(z /
+Delta_max) with its Kelvin-Voigt damper in the elastic range, softening to
+mu_k over Delta_max..1.5 Delta_max, held at 1.5 Delta_max), in steady running.
+Along the arc x in the belt's direction of travel a belt element carries its
+creep displacement z (the travel of the pulley surface relative to the belt
+since the element arrived; z > 0: the belt lags the surface) and its tension T:
 
-    dz/dx = v_T / v = (1 + eps0) / (1 + T / EA) - 1,   dT/dx = -mu(z) T / r,
+    dz/dx = v_T / v = (1 + eps0) / (1 + T / EA) - 1,   dT/dx = -mu(z) (T - m' v^2) / r,
 
 eps0 = omega r / v0 - 1 the strain at which the belt would stick (v0 = the
 unstretched belt's flux speed, the same on every pulley). For given tensions
 in and out, eps0 is shot so that T reaches the outgoing span's tension at the
-end of the arc; the speed loss of the driven pulley is 1 - (1 + eps0_driven) /
-(1 + eps0_driver). The only thing the mesh can change in this model is the
-state (T, z) in which the belt enters the arc: z0 = 0 is a belt that arrives
-unstrained.
+end of the arc; the speed loss of pulley j against pulley 1 is
+1 - (1 + eps0_j) / (1 + eps0_1). The only thing the mesh can change in this
+model is the state (T, z) in which the belt enters the arc: z = 0 is a belt
+that arrives unstrained.
 
 With a PROFILE (the output of `cargo run --profile ci --example wrap_profile
--- 5pk|2to1 N BIN [points]`) the model starts each wrap from the simulated
-state (mean SDE tension and mean creep of the contacts) in the bin at
-`start_deg` (default: the first bin inside the wrap; two values: one per
-pulley) of travel, integrates to
-the tangent point where the belt leaves, and compares the speed loss with the
-simulated one.
+-- 5pk|2to1|accessory N BIN [points]`, whose header gives the belt's and the
+pulleys' constants) the model starts each wrap from the simulated state (mean
+SDE tension and mean creep of the contacts) in the bin at `start_deg` of
+travel from the arrival (default: the first bin; one value per wrap in the
+profile's order, or one for all), integrates to the tangent point where the
+belt leaves, and compares the speed losses with the simulated ones.
 """
 
 import math
@@ -41,6 +40,9 @@ from scipy.optimize import brentq
 # The paper's 5PK belt and pulleys (DriveParams::kubas_section4, the creep
 # law's defaults): EA [N], Delta_max [m], mu_s, mu_k, the creep damper's tau [s].
 EA, DMAX, MU_S, MU_K, TAU = 1.52e5, 1e-4, 1.05, 1.0, 3e-4
+# Centrifugal force m' v^2 [N]: 0.04 N on the 5PK drive, left out of the
+# continuum runs; a profile's header sets it.
+CENTRIFUGAL = 0.0
 # The 5PK drive's radius [m], wrap angle [rad] (equal pulleys) and belt speed
 # [m/s] (for the damper's v_T only).
 RADIUS, WRAP, SPEED = 0.027, math.pi, 0.68
@@ -67,18 +69,22 @@ def smoothstep(x):
     return x * x * (3.0 - 2.0 * x)
 
 
-def mu(z, v_t):
+def mu(z, v_t, mu_s=None, mu_k=None):
     """The `creep` law (src/belt/elements/friction/creep.rs), z > 0: belt lags."""
+    mu_s = MU_S if mu_s is None else mu_s
+    mu_k = MU_K if mu_k is None else mu_k
     u = z / DMAX
     if abs(u) <= 1.0:
-        m = MU_S * (s_curve(u) + 1.5 * (1.0 - u * u) * TAU / DMAX * v_t)
-        return max(-MU_S, min(MU_S, m))
-    return math.copysign(MU_S + (MU_K - MU_S) * smoothstep(2.0 * (abs(u) - 1.0)), u)
+        m = mu_s * (s_curve(u) + 1.5 * (1.0 - u * u) * TAU / DMAX * v_t)
+        return max(-mu_s, min(mu_s, m))
+    return math.copysign(mu_s + (mu_k - mu_s) * smoothstep(2.0 * (abs(u) - 1.0)), u)
 
 
-def march(eps0, t_in, z_in, arc, r=RADIUS):
+def march(eps0, t_in, z_in, arc, r=RADIUS, mus=None):
     """(T, z) at the end of an arc of length `arc` entered in state (t_in, z_in)
-    by a belt whose stick strain is eps0 (midpoint rule, z held at its cap)."""
+    by a belt whose stick strain is eps0 (midpoint rule, z held at its cap);
+    `mus` = (mu_s, mu_k) of the pulley."""
+    mus = mus or (MU_S, MU_K)
     cap = 1.5 * DMAX
     n = max(200, int(STEPS_PER_RADIAN * arc / r))
     h = arc / n
@@ -88,7 +94,7 @@ def march(eps0, t_in, z_in, arc, r=RADIUS):
         dz = (1.0 + eps0) / (1.0 + t / EA) - 1.0
         if (z >= cap and dz > 0.0) or (z <= -cap and dz < 0.0):
             dz = 0.0
-        return -mu(z, SPEED * dz) * t / r, dz
+        return -mu(z, SPEED * dz, *mus) * (t - CENTRIFUGAL) / r, dz
 
     for _ in range(n):
         a = rate(t, z)
@@ -98,9 +104,9 @@ def march(eps0, t_in, z_in, arc, r=RADIUS):
     return t, z
 
 
-def stick_strain(t_in, t_out, z_in=0.0, arc=RADIUS * WRAP, r=RADIUS):
+def stick_strain(t_in, t_out, z_in=0.0, arc=RADIUS * WRAP, r=RADIUS, mus=None):
     """eps0 of a wrap of radius r entered at tension t_in with creep z_in and left at t_out."""
-    return brentq(lambda e: march(e, t_in, z_in, arc, r)[0] - t_out, -0.05, 0.05, xtol=1e-13)
+    return brentq(lambda e: march(e, t_in, z_in, arc, r, mus)[0] - t_out, -0.05, 0.05, xtol=1e-13)
 
 
 def speed_loss(e_driver, e_driven):
@@ -133,45 +139,66 @@ def continuum(drive, t1, t2):
 
 
 def read_profile(path):
-    """Drive, speed loss and per pulley {travel deg: (tension, z [m] or None off
-    the wrap)} of a wrap_profile run."""
-    loss, wraps, j, drive = None, [{}, {}], -1, None
+    """A wrap_profile run: the speed losses against pulley 1, and per wrap its
+    pulley, radius, wrap angle, (mu_s, mu_k) and {travel deg: (tension, z [m]
+    or None off the wrap)}; sets the belt's constants from its header."""
+    global EA, DMAX, TAU, SPEED, CENTRIFUGAL
+    losses, wraps = None, []
     for line in open(path):
-        if drive is None:
-            drive = line.split(",")[0]
         if "speed loss" in line:
-            loss = float(line.split("speed loss")[1].split("%")[0]) / 100.0
+            losses = [float(v) / 100.0 for v in line.split("[%]")[1].split("/")]
+        elif line.startswith("belt EA"):
+            f = line.replace(",", " ").split()
+            EA, DMAX, TAU, SPEED = float(f[2]), float(f[5]), float(f[8]), float(f[12])
+            CENTRIFUGAL = float(f[15]) * SPEED**2
         elif line.startswith("pulley "):
-            j += 1
-        elif "|" in line and j >= 0:
+            f = line.replace("(", " ").replace(",", " ").replace(";", " ").split()
+            wraps.append({"pulley": int(f[1]), "radius": float(f[3]), "wrap": math.radians(float(f[6])),
+                          "mus": (float(f[9]), float(f[11])), "bins": {}})
+        elif "|" in line and wraps:
             a, b = line.split("|")
             deg, ten = (float(v) for v in a.split())
-            n, _, z, _, count = (float(v) for v in b.split())
-            # the profile's z > 0 is the body faster than the surface on
-            # these clockwise pulleys: the belt leading, the opposite of this
-            # model's sign
-            wraps[j][deg] = (ten, -z * 1e-6 if count > 0.0 else None)
-    return drive, loss, wraps
+            _, _, z, _, count = (float(v) for v in b.split())
+            wraps[-1]["bins"][deg] = (ten, z * 1e-6 if count > 0.0 else None)
+    return losses, wraps
 
 
 def check(path, start=None):
-    global SPEED
-    drive, loss, wraps = read_profile(path)
-    pulleys, SPEED = DRIVES[drive]
-    eps = []
-    for j, w in enumerate(wraps):
-        r, arrive, leave = pulleys[j]
-        inside = sorted(d for d in w if w[d][1] is not None and math.radians(d) > arrive and d < 270.0)
-        deg = inside[0] if start is None else min(inside, key=lambda d: abs(d - start[j % len(start)]))
-        t_in, z_in = w[deg]
-        # the span it leaves into: the mean SDE tension off the wrap over the
-        # 40 deg after the tangent point where the belt leaves
-        off = [w[d][0] for d in w if w[d][1] is None and 0 < d - math.degrees(leave) < 40.0]
-        t_out = sum(off) / len(off)
-        arc = r * (leave - math.radians(deg))
-        eps.append(stick_strain(t_in, t_out, z_in, arc, r))
-        print(f"pulley {j + 1}: from {deg:.1f} deg, T {t_in:.1f} N, z {z_in * 1e6:+.2f} um (+: lagging)")
-    print(f"{path}: speed loss simulated {100 * loss:.4f} %, reduced model {100 * speed_loss(*eps):.4f} %")
+    """Each wrap from the simulated state at `start` degrees of travel (one value
+    per wrap, or one for all; default the first bin) to the tangent point where
+    the belt leaves, into the span's simulated tension; then the same with each
+    wrap in turn started from the arriving span's tension and no creep (what its
+    landing does to the slip)."""
+    losses, wraps = read_profile(path)
+    runs = []
+    for m, w in enumerate(wraps):
+        bins, r, wrap = w["bins"], w["radius"], w["wrap"]
+        inside = sorted(d for d in bins if bins[d][1] is not None and d < math.degrees(wrap))
+        deg = inside[0] if start is None else min(inside, key=lambda d: abs(d - start[m % len(start)]))
+        t_in, z_in = bins[deg]
+        # the spans: the mean SDE tension off the wrap over the 40 deg
+        # before the arrival and after the tangent point where it leaves
+        before = [bins[d][0] for d in bins if bins[d][1] is None and d > 320.0]
+        after = [bins[d][0] for d in bins if bins[d][1] is None and 0 < d - math.degrees(wrap) < 40.0]
+        t_span, t_out = sum(before) / len(before), sum(after) / len(after)
+        arc = r * (wrap - math.radians(deg))
+        landed = stick_strain(t_in, t_out, z_in, arc, r, w["mus"])
+        unstrained = stick_strain(t_span, t_out, 0.0, arc, r, w["mus"])
+        runs.append((w["pulley"], landed, unstrained))
+        print(f"pulley {w['pulley']}: from {deg:.1f} deg, T {t_in:.1f} N ({t_in - t_span:+.1f} N against the "
+              f"arriving span), z {z_in * 1e6:+.2f} um (+: lagging), leaving into {t_out:.1f} N")
+
+    def losses_of(eps):
+        return [speed_loss(eps[1], eps[j]) for j in sorted(eps) if j != 1]
+
+    model = losses_of({j: e for j, e, _ in runs})
+    print(f"{path}: speed loss against pulley 1, simulated "
+          + " / ".join(f"{100 * v:.4f}" for v in losses) + " %, reduced model "
+          + " / ".join(f"{100 * v:.4f}" for v in model) + " %")
+    for j, _, _ in runs:
+        alone = losses_of({k: (u if k == j else e) for k, e, u in runs})
+        print(f"  pulley {j}'s landing moves the losses by "
+              + " / ".join(f"{100 * (a - b):+.4f}" for a, b in zip(model, alone)) + " points")
 
 
 if __name__ == "__main__":
