@@ -468,7 +468,7 @@ fn collect_arc<R: Recorder>(
 fn sum4(cols: [&[f64]; 4], len: usize) -> [f64; 4] {
     let full = len & !3;
     let padded = cols[0].len();
-    assert!(padded % PAD == 0 && len <= padded && cols.iter().all(|c| c.len() == padded));
+    assert!(padded.is_multiple_of(PAD) && len <= padded && cols.iter().all(|c| c.len() == padded));
     let mut acc = [[0.0; 4]; 4];
     for c in (0..full).step_by(4) {
         for (a, col) in acc.iter_mut().zip(cols) {
@@ -1091,7 +1091,7 @@ impl BeltSystem {
         };
         let k0 = if first { 0 } else { 1 };
         let k_end = upto(k0, len + 1);
-        assert!(k_end < BODY_COL && k_end <= SDE_COL);
+        assert!(k_end < BODY_COL.min(SDE_COL));
         for k in k0..k_end {
             let (p, c) = (k, k + 1);
             let (d, dd) = sde::gap(end(b, p), end(b, c));
