@@ -165,6 +165,9 @@ fn main() {
     let mut ten = vec![[0.0f64; 2]; ns * nb];
     let mut con = vec![[0.0f64; 5]; ns * nb];
     let samples = 60;
+    // per pulley: the sum of the mean belt torques over the snapshots'
+    // equal intervals (their mean is the window's mean)
+    let mut belt_torque = vec![0.0f64; np];
     // travel angle from the arrival on wrap m of a point near its pulley
     let travel = |m: usize, c: [f64; 2], x: f64, y: f64| -> Option<usize> {
         let f = &frames[m];
@@ -179,6 +182,9 @@ fn main() {
     for k in 1..=samples {
         d.advance(t0 + (t1 - t0) * k as f64 / samples as f64)
             .expect("advance");
+        for (j, t) in belt_torque.iter_mut().enumerate() {
+            *t += d.outputs().pulleys[j].mean_belt_torque / samples as f64;
+        }
         let sys = d.system().clone();
         let y = d.state().to_vec();
         let centres: Vec<[f64; 2]> = (0..np).map(|j| sys.pulley_centre(j, &y).0).collect();
@@ -227,6 +233,23 @@ fn main() {
         l * 1e3,
         p.contact.points,
         losses.join(" / ")
+    );
+    // the belt's loss: the power it takes from the pulleys less the power it
+    // gives them, from the window's mean belt torques and speeds
+    let loss: f64 = -(0..np).map(|j| belt_torque[j] * w[j]).sum::<f64>();
+    println!(
+        "mean belt torque [N m] {}, mean speed [rad/s] {}, belt loss {:.3} W, {} steps",
+        belt_torque
+            .iter()
+            .map(|t| format!("{t:.4}"))
+            .collect::<Vec<_>>()
+            .join(" / "),
+        w.iter()
+            .map(|v| format!("{v:.4}"))
+            .collect::<Vec<_>>()
+            .join(" / "),
+        loss,
+        d.stats().steps
     );
     // the constants of the reduced model (examples/creep_wrap.py)
     println!(
