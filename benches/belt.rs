@@ -6,7 +6,7 @@
 //!
 //! * `rhs`: cost of one right-hand-side evaluation per body at 60, 150, 600
 //!   and 1200 bodies (median of 7 repeats);
-//! * `accuracy`: real-time factor of the default 5PK drive and of the
+//! * `accuracy`: real-time factor of the paper's 5PK drive and of the
 //!   section-3 drive (10 N m load stepped on at 0.3 s) over 6 and 10 s (`creep`
 //!   law) at several tolerances, and the
 //!   deviation of the headline outputs (driven speed, slip, tight and slack
@@ -237,7 +237,7 @@ fn bench_accuracy(o: Opts) {
     // The section-3 drive runs under the validation's load step (10 N m at 0.3 s).
     for (name, base, load, window) in [
         (
-            "default 5PK drive",
+            "paper's 5PK drive (section-4 set)",
             DriveParams::kubas_section4(),
             None,
             (1.5, 6.0),
@@ -307,7 +307,7 @@ fn bench_accuracy(o: Opts) {
 fn bench_default(o: Opts) {
     let horizon = if o.quick { 0.02 } else { 0.4 };
     // the FMU's default drive: the paper's section-4 drive with the
-    // automatic contact damping ramp
+    // automatic contact damping ramp and the damper across the SDE gaps
     let mut p = DriveParams::default();
     o.apply(&mut p);
     let c0 = cpu_time();
@@ -334,7 +334,7 @@ fn bench_kubas(o: Opts) {
         (0.01, 0.03)
     };
     println!(
-        "## `kubas2014` friction law (default 5PK drive, method {:?}, rtol 1e-4)",
+        "## `kubas2014` friction law (the paper's 5PK drive, section-4 set, method {:?}, rtol 1e-4)",
         o.method
     );
     println!(
@@ -485,7 +485,7 @@ fn main() {
             }
             "--drive" => {
                 opts.drive = Some(match it.next().map(String::as_str) {
-                    Some("5pk") => "default 5PK",
+                    Some("5pk") => "paper's 5PK",
                     Some("s3") => "section-3",
                     d => panic!("--drive: 5pk or s3, not {d:?}"),
                 })

@@ -1,5 +1,5 @@
 //! `cargo bench --bench stiff`: the stiff integrator (solver.method = 2):
-//! cost of its kernels per body, real-time factor of the default 5PK drive
+//! cost of its kernels per body, real-time factor of the paper's 5PK drive
 //! and the section-3 drive with headline outputs, scaling with body count,
 //! and the paper's `kubas2014` law at its printed dv = 1e-5 m/s. Plain
 //! timing; figures go to docs/benchmarks.md.
@@ -156,6 +156,11 @@ fn main() {
     // `--fmu-default` the FMU's default drive (automatic contact damping
     // ramp, damper across the SDE gaps)
     let fmu_default = std::env::args().any(|a| a == "--fmu-default");
+    let name_5pk = if fmu_default {
+        "the FMU's default 5PK drive"
+    } else {
+        "the paper's 5PK drive (section-4 set)"
+    };
     let drive_5pk = || {
         if fmu_default {
             DriveParams::default()
@@ -183,7 +188,7 @@ fn main() {
     }
     let horizon = if quick { 0.2 } else { 2.0 };
     if want("5pk") {
-        println!("# default 5PK drive, creep law, ROS34PW2, 0..{horizon} s");
+        println!("# {name_5pk}, creep law, ROS34PW2, 0..{horizon} s");
         for tol in [1e-4, 1e-5] {
             let mut p = drive_5pk();
             p.solver.method = Method::Rosenbrock;
@@ -234,7 +239,7 @@ fn main() {
     }
     if picked.iter().any(|a| a == "rkf45") {
         let horizon = flag("--horizon=").unwrap_or(0.1);
-        println!("# default 5PK drive, creep law, RKF45 at its default tolerances, 0..{horizon} s");
+        println!("# {name_5pk}, creep law, RKF45 at its default tolerances, 0..{horizon} s");
         let mut p = drive_5pk();
         p.solver.method = Method::Rkf45;
         set_points(&mut p);
