@@ -9,7 +9,7 @@ mod common;
 
 use belt_drive::belt::params::Method;
 use belt_drive::belt::{Drive, DriveParams};
-use belt_drive::modes::{adapter, analyse, Mode, Modes, Options, Part};
+use belt_drive::modes::{adapter, analyse, Mode, Modes, Options, Orbit, Part};
 
 /// Two free (torque-driven, unloaded) pulleys of radii 40 and 25 mm, 0.35 m
 /// apart; a light belt (0.2 kg/m, EA 1.5e5 N) under 300 N; `n` bodies.
@@ -208,14 +208,15 @@ fn heavy_running(n: usize, method: Method) -> DriveParams {
     p
 }
 
-/// Runs to steady running (0.5 s after the 0.1 s ramp) and returns the
-/// Floquet analysis about the periodic running state, the span tensions and
-/// the belt speed there. The orbit must have been found: defect below
-/// 2e-3 (`ORBIT_TOL` 1e-3 is what the settling aims at; the analysed period
-/// is integrated once more).
-fn running_floquet(p: &DriveParams) -> (Modes, Vec<f64>, f64) {
+/// Runs the drive to `t` and analyses its steady running there by the
+/// Floquet analysis (which integrates its own copy: the drive returned is
+/// the one at `t`); prints the orbit (period, settling defects, span
+/// tensions, belt speed) and checks that it was found: defect below 2e-3
+/// (`ORBIT_TOL` 1e-3 is what the settling aims at; the analysed period is
+/// integrated once more).
+fn floquet_after_run_up(p: &DriveParams, t: f64) -> (Drive, Modes, Orbit) {
     let mut drive = adapter::build(p).expect("valid drive");
-    adapter::run_to(&mut drive, 0.6).expect("run");
+    adapter::run_to(&mut drive, t).expect("run-up");
     let t0 = std::time::Instant::now();
     let m = belt_drive::modes::floquet(
         &drive,
@@ -243,6 +244,14 @@ fn running_floquet(p: &DriveParams) -> (Modes, Vec<f64>, f64) {
         "no periodic orbit: {:?}",
         orbit.defects
     );
+    (drive, m, orbit)
+}
+
+/// The heavy-belt drive's steady running 0.5 s after its 0.1 s ramp
+/// ([`floquet_after_run_up`]): the modes, the span tensions and the belt
+/// speed averaged over the analysed period.
+fn running_floquet(p: &DriveParams) -> (Modes, Vec<f64>, f64) {
+    let (_, m, orbit) = floquet_after_run_up(p, 0.6);
     (m, orbit.span_tension, orbit.belt_speed)
 }
 
@@ -1107,29 +1116,7 @@ fn accessory_running_rotational_mode_rings_in_the_time_domain() {
             "solver.absTol=1e-8",
         ],
     );
-    let mut drive = adapter::build(&p).expect("valid drive");
-    adapter::run_to(&mut drive, 0.8).expect("run-up");
-    let m = belt_drive::modes::floquet(
-        &drive,
-        &Options::default(),
-        belt_drive::modes::FLOQUET_SUBSTEPS,
-    )
-    .expect("floquet");
-    let orbit = m.orbit.clone().expect("orbit");
-    eprintln!(
-        "orbit: period {:.4e} s, defects {:?}",
-        orbit.period,
-        orbit
-            .defects
-            .iter()
-            .map(|d| format!("{d:.1e}"))
-            .collect::<Vec<_>>()
-    );
-    assert!(
-        orbit.defect() < 2e-3,
-        "no periodic orbit: {:?}",
-        orbit.defects
-    );
+    let (mut drive, m, _) = floquet_after_run_up(&p, 0.8);
     let light: Vec<&Mode> = m.modes.iter().filter(|x| x.damping_ratio < 0.1).collect();
     for x in light.iter().take(6) {
         eprintln!(
