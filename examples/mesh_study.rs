@@ -12,17 +12,15 @@
 //! [method 1|2] [relTol] [bodies,...] [contact.points]` (the drive's own
 //! `contact.points` when not given or 0).
 
-use std::path::Path;
-
 use belt_drive::belt::params::Method;
 use belt_drive::belt::{Drive, DriveParams};
-use belt_drive::fmi::FmuModel;
-use belt_drive::fmu::variables::{by_name, VarType};
-use belt_drive::fmu::BeltDrive;
 
 #[path = "common/two_to_one.rs"]
 mod drives;
 use drives::two_to_one;
+#[path = "common/ssv.rs"]
+mod ssv;
+use ssv::from_ssv;
 
 /// A drive of the study: its parameters, the averaging window and the meshes.
 struct Study {
@@ -32,26 +30,6 @@ struct Study {
     meshes: Vec<usize>,
     /// Pulleys whose speed loss against pulley 1 is reported.
     report: Vec<usize>,
-}
-
-/// The parameters of an .ssv file set through the FMU's own variables.
-fn from_ssv(file: &str) -> DriveParams {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("parameters")
-        .join(file);
-    let text = std::fs::read_to_string(&path).expect("parameter file");
-    let mut m = BeltDrive::new();
-    for p in model_description::ssv::read(&text).expect("ssv") {
-        let v = by_name(&p.name).expect("variable");
-        match v.ty {
-            VarType::Real => m.set_real(v, p.value.parse().unwrap()),
-            VarType::Integer => m.set_integer(v, p.value.parse().unwrap()),
-            VarType::Boolean => m.set_boolean(v, p.value == "true" || p.value == "1"),
-            _ => panic!("{}", p.name),
-        }
-        .expect("set");
-    }
-    m.drive_params().expect("parameters")
 }
 
 /// Mean speeds over the window and mean span tensions.

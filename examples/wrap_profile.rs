@@ -1,20 +1,31 @@
 //! The tension, normal force, friction force, creep displacement and
-//! relative velocity along both wraps of a two-pulley drive (the 5PK drive of
-//! section 4 or the 2:1 drive of docs/validation.md), averaged over snapshots
-//! in steady running and binned by the angle travelled from where the belt
-//! arrives on the pulley. Shows where a coarse mesh's excess slip comes from
-//! (docs/validation.md, "Slip against the mesh").
+//! relative velocity along every wrap of a drive (the 5PK drive of section
+//! 4, the 2:1 drive or the accessory drive of docs/validation.md), averaged
+//! over snapshots in steady running and binned by the angle travelled from
+//! the tangent point where the belt arrives on the pulley. Shows where a
+//! coarse mesh's excess slip comes from, and feeds the reduced model
+//! `examples/creep_wrap.py` (docs/validation.md, "Why a coarse mesh slips
+//! more").
 //!
-//! `cargo run --profile ci --example wrap_profile -- [5pk|2to1] [bodies]
-//! [bin width, degrees]`
+//! `cargo run --profile ci --example wrap_profile -- [5pk|2to1|accessory]
+//! [bodies] [bin width, degrees] [contact.points]` (the drive's own
+//! `contact.points` when not given or 0).
+//!
+//! Signs follow the belt: f > 0 pulls the belt along its travel, z > 0 and
+//! v_T > 0 mean the pulley surface runs ahead of the belt (the belt lags).
 
-use belt_drive::belt::params::{Method, PulleyParams};
+use std::f64::consts::TAU;
+
+use belt_drive::belt::params::Method;
 use belt_drive::belt::system::{Recorder, Workspace, BODY_DOF};
 use belt_drive::belt::{Drive, DriveParams};
 
 #[path = "common/two_to_one.rs"]
 mod drives;
 use drives::two_to_one;
+#[path = "common/ssv.rs"]
+mod ssv;
+use ssv::from_ssv;
 
 #[derive(Default)]
 struct Snap {
@@ -36,46 +47,81 @@ impl Recorder for Snap {
     }
 }
 
+/// One wrap as the profile sees it: its pulley, the angle about the pulley
+/// centre of the tangent point where the belt arrives, and the sense in
+/// which the belt travels round it (+1 counterclockwise).
+struct WrapFrame {
+    pulley: usize,
+    arrive: f64,
+    sense: f64,
+    angle: f64,
+}
+
 fn main() {
     let a: Vec<String> = std::env::args().skip(1).collect();
     let arg = |i: usize, d: &str| a.get(i).cloned().unwrap_or_else(|| d.to_string());
     let which = arg(0, "5pk");
     let n: usize = arg(1, "150").parse().unwrap();
     let bin: f64 = arg(2, "10").parse::<f64>().unwrap().to_radians();
-    let mut p = if which == "2to1" {
-        two_to_one()
-    } else {
-        DriveParams::kubas_section4()
+    let points: usize = arg(3, "0").parse().unwrap();
+    let (mut p, (t0, t1)) = match which.as_str() {
+        "2to1" => (two_to_one(), (0.5, 0.8)),
+        "accessory" => (from_ssv("accessory-drive-4.ssv"), (0.8, 1.1)),
+        _ => (DriveParams::kubas_section4(), (0.5, 0.8)),
     };
     p.belt.n_bodies = n;
+    if points > 0 {
+        p.contact.points = points;
+    }
     p.probe_body = 0;
     p.solver.method = Method::Rosenbrock;
     p.solver.rel_tol = 1e-5;
     p.solver.abs_tol = 1e-7;
     p.solver.max_steps = u64::MAX;
-    let (t0, t1) = (0.5, 0.8);
+    let np = p.pulleys.len();
     let mut d = Drive::new(&p, 0.0).expect("parameters");
     let l = d.layout().body_length;
     d.advance(t0).expect("advance");
     let o0 = d.outputs();
-    let nb = (2.0 * std::f64::consts::PI / bin).ceil() as usize;
-    // per pulley and bin: tension sum/count, N, f, z, v_T sums and count
-    let mut ten = vec![[0.0f64; 2]; 2 * nb];
-    let mut con = vec![[0.0f64; 5]; 2 * nb];
+    // the belt runs in the layout's loop order when the first wrap's pulley
+    // turns in that wrap's sense (+1 inside the loop: counterclockwise)
+    let layout = d.layout().clone();
+    let w0 = &layout.wraps[0];
+    let forward = o0.pulleys[w0.pulley].omega * w0.side > 0.0;
+    let ns = layout.spans.len();
+    let frames: Vec<WrapFrame> = (0..ns)
+        .map(|m| {
+            let w = &layout.wraps[m];
+            let q = &p.pulleys[w.pulley];
+            // wraps[m] lies between spans[m] (arriving in loop order) and
+            // spans[m + 1]
+            let t = if forward {
+                layout.spans[m].end
+            } else {
+                layout.spans[(m + 1) % ns].start
+            };
+            WrapFrame {
+                pulley: w.pulley,
+                arrive: (t[1] - q.y).atan2(t[0] - q.x),
+                sense: if forward { w.side } else { -w.side },
+                angle: w.angle,
+            }
+        })
+        .collect();
+    let nb = (TAU / bin).ceil() as usize;
+    // per wrap and bin: tension sum/count, N, f, z, v_T sums and count
+    let mut ten = vec![[0.0f64; 2]; ns * nb];
+    let mut con = vec![[0.0f64; 5]; ns * nb];
     let samples = 60;
-    let mut span = [0.0; 2];
-    // travel angle from the arrival: the belt runs clockwise (pulley 1
-    // turns at negative omega) around both pulleys
-    let travel = |j: usize, x: f64, y: f64, q: &PulleyParams| -> Option<usize> {
-        let (dx, dy) = (x - q.x, y - q.y);
-        if dx * dx + dy * dy > (q.radius + 2.0 * l) * (q.radius + 2.0 * l) {
+    // travel angle from the arrival on wrap m of a point near its pulley
+    let travel = |m: usize, c: [f64; 2], x: f64, y: f64| -> Option<usize> {
+        let f = &frames[m];
+        let (dx, dy) = (x - c[0], y - c[1]);
+        let r = p.pulleys[f.pulley].radius + 2.0 * l;
+        if dx * dx + dy * dy > r * r {
             return None;
         }
-        let th = dy.atan2(dx);
-        // pulley 1 (left): arrives at the bottom (-90 deg) going clockwise;
-        // pulley 2 (right): arrives at the top (+90 deg) going clockwise
-        let start = if j == 0 { -0.5 } else { 0.5 } * std::f64::consts::PI;
-        let s = (start - th).rem_euclid(2.0 * std::f64::consts::PI);
+        let s = (f.sense * (dy.atan2(dx) - f.arrive)).rem_euclid(TAU);
         Some(((s / bin) as usize).min(nb - 1))
     };
     for k in 1..=samples {
@@ -83,61 +129,86 @@ fn main() {
             .expect("advance");
         let sys = d.system().clone();
         let y = d.state().to_vec();
+        let centres: Vec<[f64; 2]> = (0..np).map(|j| sys.pulley_centre(j, &y).0).collect();
         let mut s = Snap::default();
         let mut dy = vec![0.0; y.len()];
         sys.rhs(&mut Workspace::new(), d.time(), &y, &mut dy, &mut s);
         for &(t, [x, yy]) in &s.sdes {
-            for j in 0..2 {
-                if let Some(b) = travel(j, x, yy, &p.pulleys[j]) {
-                    ten[j * nb + b][0] += t;
-                    ten[j * nb + b][1] += 1.0;
+            for (m, f) in frames.iter().enumerate() {
+                if let Some(b) = travel(m, centres[f.pulley], x, yy) {
+                    ten[m * nb + b][0] += t;
+                    ten[m * nb + b][1] += 1.0;
                 }
             }
         }
         for &(i, j, nn, f, vt) in &s.contacts {
             let o = BODY_DOF * i;
-            if let Some(b) = travel(j, y[o], y[o + 1], &p.pulleys[j]) {
-                let c = &mut con[j * nb + b];
-                c[0] += nn;
-                c[1] += f;
-                c[2] += y[o + 6];
-                c[3] += vt;
-                c[4] += 1.0;
+            for (m, fr) in frames.iter().enumerate().filter(|(_, fr)| fr.pulley == j) {
+                if let Some(b) = travel(m, centres[j], y[o], y[o + 1]) {
+                    // the model's f, z and v_T point along the pulley's
+                    // counterclockwise tangent, the belt travels along
+                    // fr.sense times it
+                    let sign = fr.sense;
+                    let c = &mut con[m * nb + b];
+                    c[0] += nn;
+                    c[1] += sign * f;
+                    c[2] += sign * y[o + 6];
+                    c[3] += sign * vt;
+                    c[4] += 1.0;
+                }
             }
         }
-        let o = d.outputs();
-        span[0] += o.span_tension[0] / samples as f64;
-        span[1] += o.span_tension[1] / samples as f64;
     }
     let o1 = d.outputs();
-    let w: Vec<f64> = (0..2)
+    let w: Vec<f64> = (0..np)
         .map(|j| (o1.pulleys[j].angle - o0.pulleys[j].angle) / (t1 - t0))
         .collect();
-    let loss = 1.0 - (w[1] * p.pulleys[1].radius).abs() / (w[0] * p.pulleys[0].radius).abs();
+    let losses: Vec<String> = (1..np)
+        .map(|j| {
+            let loss =
+                1.0 - (w[j] * p.pulleys[j].radius).abs() / (w[0] * p.pulleys[0].radius).abs();
+            format!("{:.4}", 100.0 * loss)
+        })
+        .collect();
     println!(
-        "{which}, {n} bodies (l = {:.3} mm): speed loss {:.4} %, span tensions {:.1} / {:.1} N",
+        "{which}, {n} bodies (l = {:.3} mm), contact.points {}: speed loss against pulley 1 [%] {}",
         l * 1e3,
-        100.0 * loss,
-        span[0],
-        span[1]
+        p.contact.points,
+        losses.join(" / ")
     );
-    for j in 0..2 {
-        println!("\npulley {} (travel from arrival [deg], mean SDE tension [N], per contact: N [N], f [N], z [um], v_T [mm/s], contacts per snapshot)", j + 1);
+    // the constants of the reduced model (examples/creep_wrap.py)
+    println!(
+        "belt EA {} N, friction.creepMax {} m, friction.creepDampingTime {} s, belt speed {:.4} m/s, massPerLength {} kg/m",
+        p.belt.ea,
+        p.friction.creep_max,
+        p.friction.creep_damping_time,
+        (w[0] * p.pulleys[0].radius).abs(),
+        p.belt.mass_per_length
+    );
+    for (m, f) in frames.iter().enumerate() {
+        println!(
+            "\npulley {} (radius {} m, wrap {:.4} deg, muStatic {}, muKinetic {}; travel from arrival [deg], mean SDE tension [N], per contact: N [N], f [N], z [um], v_T [mm/s], contacts per snapshot)",
+            f.pulley + 1,
+            p.pulleys[f.pulley].radius,
+            f.angle.to_degrees(),
+            p.pulleys[f.pulley].mu_static,
+            p.pulleys[f.pulley].mu_kinetic
+        );
         for b in 0..nb {
-            let t = ten[j * nb + b];
-            let c = con[j * nb + b];
+            let t = ten[m * nb + b];
+            let c = con[m * nb + b];
             if c[4] == 0.0 && t[1] == 0.0 {
                 continue;
             }
-            let m = c[4].max(1.0);
+            let cnt = c[4].max(1.0);
             println!(
                 "{:6.1} {:8.1} | {:7.1} {:8.2} {:8.2} {:8.3} {:5.2}",
                 (b as f64 + 0.5) * bin.to_degrees(),
                 t[0] / t[1].max(1.0),
-                c[0] / m,
-                c[1] / m,
-                1e6 * c[2] / m,
-                1e3 * c[3] / m,
+                c[0] / cnt,
+                c[1] / cnt,
+                1e6 * c[2] / cnt,
+                1e3 * c[3] / cnt,
                 c[4] / samples as f64
             );
         }

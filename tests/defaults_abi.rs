@@ -2,7 +2,8 @@
 //! via dlopen): a drive with fewer bodies than the paper's initialises with
 //! the default probe (chosen automatically and logged); refusals name the
 //! parameter that is actually wrong (a radius or a centre distance typed in
-//! millimetres, a back-side idler without its flag); the belt's losses are their own
+//! millimetres, a stiffness in kN, a back-side idler without its flag), and a
+//! mass per length typed in g/m is warned about; the belt's losses are their own
 //! output, never negative, and close the energy balance of the four-pulley
 //! accessory drive under a pulsating crank.
 #![cfg(unix)]
@@ -203,6 +204,46 @@ fn centre_distance_in_millimetres_names_the_position() {
         "{:?}",
         i.log.borrow()
     );
+}
+
+/// The belt's stiffness typed in kN (the paper's 152 kN as 152) would stretch
+/// the belt by 362 % under its 550 N preload: the refusal names `belt.EA`
+/// and the value in newtons, not the preload. A preload that is itself too
+/// large for a plausible stiffness keeps the preload's refusal.
+#[test]
+fn stiffness_in_kilonewtons_names_the_stiffness() {
+    let fmi = Fmi::load();
+    let (i, s) = init(&fmi, &[], &[("belt.EA", 152.0)], &[]);
+    println!("{:?}", i.log.borrow().last());
+    i.assert_refused(s, "belt.EA: 152 N is less than twice belt.preload = 550 N");
+    assert!(i.logged(ERROR, "set 152000"), "{:?}", i.log.borrow());
+    let (i, s) = init(&fmi, &[], &[("belt.preload", 1e5)], &[]);
+    i.assert_refused(s, "belt.preload must be below half of belt.EA");
+}
+
+/// A belt's mass per length typed in g/m (the paper's 0.096 kg/m as 96) is
+/// a valid drive (a conveyor belt can weigh that much), so it initialises,
+/// but with a warning that names `belt.massPerLength` and the value in kg/m;
+/// the paper's mass gives no warning.
+#[test]
+fn mass_in_grams_per_metre_is_warned_about() {
+    let fmi = Fmi::load();
+    let reals: Vec<(&str, f64)> = FAST_REALS
+        .iter()
+        .copied()
+        .chain([("belt.massPerLength", 96.0)])
+        .collect();
+    let (i, s) = init(&fmi, FAST_INTS, &reals, &[]);
+    println!("{:?}", i.log.borrow());
+    assert_eq!(s, OK, "{:?}", i.log.borrow());
+    assert!(
+        i.logged(WARNING, "belt.massPerLength = 96 kg/m is more than")
+            && i.logged(WARNING, "set 0.096"),
+        "{:?}",
+        i.log.borrow()
+    );
+    let (i, s) = init(&fmi, FAST_INTS, FAST_REALS, &[]);
+    assert_eq!(s, OK, "{:?}", i.log.borrow());
 }
 
 /// The accessory drive's back-side idler (pulley 4) with `backSide` left

@@ -501,10 +501,28 @@ fn auto_probe(layout: &Layout) -> usize {
 /// paper's 5PK drive has 0.26, its section-3 drive as printed 6e-5).
 const WEAK_CONTACT_DAMPING: f64 = TUNING.weak_contact_damping;
 
+/// Mass per length above which a belt is taken for a unit slip and warned
+/// about [kg/m]: drive belts weigh about 0.01 (small flat and round belts)
+/// to 2 kg/m (wide banded V-belts); a belt's g/m typed as kg/m lands at
+/// 10 to 2000. Heavier belts (conveyors) still run, with the warning.
+const HEAVIEST_BELT: f64 = 5.0;
+
 /// Parameter choices that are valid but make the drive behave badly, one
 /// message each, naming the parameter and the value to use instead.
 fn warnings(params: &DriveParams, layout: &Layout, sys: &BeltSystem) -> Vec<Message> {
     let mut out = Vec::new();
+    let mu = params.belt.mass_per_length;
+    if mu > HEAVIEST_BELT {
+        out.push(msg![
+            Param::BeltMassPerLength,
+            format!(
+                " = {mu} kg/m is more than the {HEAVIEST_BELT} kg/m of the heaviest drive belts \
+                 (flat, V, V-ribbed and synchronous belts weigh about 0.01 to 2 kg/m); it is in \
+                 kg/m: if {mu} was meant in g/m, set {}",
+                mu * 1e-3
+            ),
+        ]);
+    }
     let c = &sys.contact;
     if c.b <= 0.0 {
         return out;

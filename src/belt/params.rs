@@ -631,6 +631,27 @@ impl DriveParams {
         declared_count(Param::BeltBodies, b.n_bodies)?;
         declared(Param::BeltPreload, b.preload)?;
         declared(Param::BeltEa, b.ea)?;
+        // A stiffness typed in kN (152 for the 5PK belt's 152 kN; drive belts
+        // have 1 to 1000 kN) stretches the belt beyond any real strain under
+        // a preload in N; when read in kN the strain would be a belt's (below
+        // 5 %), the stiffness is named, not the preload.
+        if b.preload >= 0.5 * b.ea && b.ea < 1e4 && b.preload < 0.05 * 1e3 * b.ea {
+            return Err(param_error(
+                Param::BeltEa,
+                msg![
+                    format!("{} N is less than twice ", shown(b.ea)),
+                    Param::BeltPreload,
+                    format!(
+                        " = {} N (the belt would stretch by {:.0} %); EA is in newtons: if {} was \
+                         meant in kN, set {}",
+                        shown(b.preload),
+                        100.0 * b.preload / b.ea,
+                        shown(b.ea),
+                        shown(b.ea * 1e3)
+                    )
+                ],
+            ));
+        }
         check(
             b.preload < 0.5 * b.ea,
             Param::BeltPreload,
