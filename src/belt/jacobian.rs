@@ -612,21 +612,7 @@ impl BeltSystem {
             let mut fq = Matrix2::zeros();
             let mut fv = Matrix2::zeros();
             if self.points > 1 {
-                self.contact_along_rows(
-                    i,
-                    y,
-                    &omega_p,
-                    pulleys,
-                    &centre,
-                    &mut hub_force,
-                    jac,
-                    Arms {
-                        lever: &lever,
-                        lever_rate: &lever_rate,
-                        inv_arm: &inv_arm,
-                    },
-                );
-                continue;
+                continue; // below, for all bodies
             }
             for j in 0..np {
                 let pc = &pulleys[j];
@@ -747,6 +733,23 @@ impl BeltSystem {
                     b.av[SELF][(r, c)] += fv[(r, c)] * inv_m;
                 }
             }
+        }
+
+        // The contact along the body: one build per point count, a loop over
+        // the bodies in each.
+        let arms = Arms {
+            lever: &lever,
+            lever_rate: &lever_rate,
+            inv_arm: &inv_arm,
+        };
+        let along = (friction, y, &omega_p, pulleys, &centre);
+        match self.points {
+            1 => {}
+            2 => self.contact_along_rows::<2>(along, &mut hub_force, jac, arms),
+            3 => self.contact_along_rows::<3>(along, &mut hub_force, jac, arms),
+            4 => self.contact_along_rows::<4>(along, &mut hub_force, jac, arms),
+            5 => self.contact_along_rows::<5>(along, &mut hub_force, jac, arms),
+            k => panic!("{k} contact points outside 1..={}", contact::MAX_POINTS),
         }
 
         // SDE k joins the right end of body p = k-1 to the left end of body
@@ -887,8 +890,20 @@ impl BeltSystem {
     }
 }
 
+/// What the contact along the body reads: the friction law, the state, the
+/// pulley speeds, the pulleys and their centres with velocities (see
+/// `jacobian_impl`).
+type Along<'a, L> = (
+    &'a L,
+    &'a [f64],
+    &'a [f64; MAX_PULLEYS],
+    &'a [super::system::PulleyConst; MAX_PULLEYS],
+    &'a [[f64; 4]; MAX_PULLEYS],
+);
+
 /// Per pulley on a tensioner arm: c'(alpha), c''(alpha) alpha', 1 / I_arm
 /// (see `jacobian_impl`).
+#[derive(Clone, Copy)]
 struct Arms<'a> {
     lever: &'a [Vector2<f64>; MAX_PULLEYS],
     lever_rate: &'a [Vector2<f64>; MAX_PULLEYS],
@@ -896,14 +911,32 @@ struct Arms<'a> {
 }
 
 impl BeltSystem {
-    /// Body i's contact rows and columns with the contact along the body
-    /// (`contact.points` > 1, [`contact::segment`]): forces and moments at
-    /// the points, so the body's angle and spin columns and its moment row
-    /// too. Accumulates the force on each arm's hub into `hub_force`.
+    /// The bodies' contact rows and columns with the contact along the body
+    /// (`contact.points` = K > 1, [`contact::segment_of`]): forces and
+    /// moments at the points, so each body's angle and spin columns and its
+    /// moment row too. Accumulates the force on each arm's hub into
+    /// `hub_force`.
+    #[inline(always)]
+    fn contact_along_rows<const K: usize>(
+        &self,
+        (friction, y, omega_p, pulleys, centre): Along<impl Law>,
+        hub_force: &mut [[f64; 2]; MAX_PULLEYS],
+        jac: &mut Jacobian,
+        arms: Arms,
+    ) {
+        for i in 0..self.n {
+            self.contact_along_body::<K>(
+                friction, i, y, omega_p, pulleys, centre, hub_force, jac, &arms,
+            );
+        }
+    }
+
+    /// Body i's share of [`Self::contact_along_rows`].
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
-    fn contact_along_rows(
+    fn contact_along_body<const K: usize>(
         &self,
+        friction: &impl Law,
         i: usize,
         y: &[f64],
         omega_p: &[f64; MAX_PULLEYS],
@@ -911,13 +944,14 @@ impl BeltSystem {
         centre: &[[f64; 4]; MAX_PULLEYS],
         hub_force: &mut [[f64; 2]; MAX_PULLEYS],
         jac: &mut Jacobian,
-        arms: Arms,
+        arms: &Arms,
     ) {
         let o = BODY_DOF * i;
         let (inv_m, inv_i) = (self.inv_mass, self.inv_inertia);
         let rows = Vector3::new(inv_m, inv_m, inv_i);
         let hl = self.half_length;
-        let (sn, cs) = trig::sin_cos(y[o + 2]);
+        // the body's sin/cos once, and only if a pulley is within reach
+        let mut sin_cos = None;
         let zf = self.zone_factor[i];
         for j in 0..self.np {
             let pc = &pulleys[j];
@@ -926,6 +960,7 @@ impl BeltSystem {
             if r[0] * r[0] + r[1] * r[1] >= pc.reach * pc.reach {
                 continue;
             }
+            let &mut (sn, cs) = sin_cos.get_or_insert_with(|| trig::sin_cos(y[o + 2]));
             let pulley = contact::PulleySide {
                 radii: &pc.radii,
                 omega: omega_p[j],
@@ -941,14 +976,9 @@ impl BeltSystem {
                 w: y[o + 5],
                 z: y[o + 6],
             };
-            let Some((sg, d)) = contact::segment(
-                &self.contact,
-                &self.friction,
-                self.points,
-                &pulley,
-                &body,
-                true,
-            ) else {
+            let Some((sg, d)) =
+                contact::segment_of::<K>(&self.contact, friction, &pulley, &body, true)
+            else {
                 continue;
             };
             let b = &mut jac.bodies[i];

@@ -1629,28 +1629,40 @@ fn contact_along_arc<const K: usize>(
             (0.0, 0.0, 0.0, 0.0, 0.0);
         let (mut se, mut sev, mut count, mut sv) = (0.0, 0.0, 0.0, 0.0);
         let mut p_max = f64::MIN;
-        for g in 0..K {
-            let pt = contact::point(
-                &laws[g], friction, quad[g].0, radii[g], levers[g], &pulley, &b,
-            );
-            p_max = p_max.max(pt.kin.p);
-            let inside = pt.kin.p > 0.0;
-            let keep = |v: f64| if inside { v } else { 0.0 };
-            sfx += keep(pt.force[0]);
-            sfy += keep(pt.force[1]);
-            smom += keep(pt.moment);
-            stq += keep(levers[g] * pt.f);
-            sdiss += keep(pt.dissipation);
-            snormal += keep(pt.normal);
-            sfric += keep(pt.f);
-            selastic += keep(pt.elastic);
-            selastic_rate += keep(pt.elastic_rate);
-            sslip += keep(pt.f * pt.kin.v_t);
-            se += keep(pt.elastic);
-            sev += keep(pt.elastic * pt.kin.v_t);
-            count += keep(1.0);
-            sv += keep(pt.kin.v_t);
+        // the points unrolled by hand (LLVM keeps a loop over four or five
+        // of them, and a loop inside stops the lanes' loop vectorising)
+        macro_rules! at {
+            ($g:literal) => {
+                if $g < K {
+                    let g = $g;
+                    let pt = contact::point(
+                        &laws[g], friction, quad[g].0, radii[g], levers[g], &pulley, &b,
+                    );
+                    p_max = p_max.max(pt.kin.p);
+                    let inside = pt.kin.p > 0.0;
+                    let keep = |v: f64| if inside { v } else { 0.0 };
+                    sfx += keep(pt.force[0]);
+                    sfy += keep(pt.force[1]);
+                    smom += keep(pt.moment);
+                    stq += keep(levers[g] * pt.f);
+                    sdiss += keep(pt.dissipation);
+                    snormal += keep(pt.normal);
+                    sfric += keep(pt.f);
+                    selastic += keep(pt.elastic);
+                    selastic_rate += keep(pt.elastic_rate);
+                    sslip += keep(pt.f * pt.kin.v_t);
+                    se += keep(pt.elastic);
+                    sev += keep(pt.elastic * pt.kin.v_t);
+                    count += keep(1.0);
+                    sv += keep(pt.kin.v_t);
+                }
+            };
         }
+        at!(0);
+        at!(1);
+        at!(2);
+        at!(3);
+        at!(4);
         let v_t = contact::body_sliding_velocity(se, sev, count, sv);
         let creep_rate = friction.creep_rate(v_t, b.z);
         let inside = (count > 0.0) & (i < valid);

@@ -631,7 +631,7 @@ pub fn body_sliding_velocity(se: f64, sev: f64, count: f64, sv: f64) -> f64 {
 /// creep rate is that of the body's sliding velocity, the points' mean
 /// weighted by their elastic normal forces. `None` if no point is inside
 /// the circle. With `partials` the derivatives too (for the Jacobian).
-#[inline]
+/// `points` in 1..=5 ([`quadrature`]); [`segment_of`] with the count fixed.
 pub fn segment(
     law: &ContactLaw,
     fr: &impl Law,
@@ -640,7 +640,29 @@ pub fn segment(
     body: &BodySide,
     partials: bool,
 ) -> Option<(Segment, SegmentPartials)> {
-    let quad = quadrature(points);
+    match points {
+        1 => segment_of::<1>(law, fr, pulley, body, partials),
+        2 => segment_of::<2>(law, fr, pulley, body, partials),
+        3 => segment_of::<3>(law, fr, pulley, body, partials),
+        4 => segment_of::<4>(law, fr, pulley, body, partials),
+        5 => segment_of::<5>(law, fr, pulley, body, partials),
+        _ => panic!("{points} contact points outside 1..={MAX_POINTS}"),
+    }
+}
+
+/// [`segment`] with K points, unrolled: the Jacobian inlines it into its
+/// build per friction law, point count and instruction set.
+#[inline(always)]
+pub fn segment_of<const K: usize>(
+    law: &ContactLaw,
+    fr: &impl Law,
+    pulley: &PulleySide,
+    body: &BodySide,
+    partials: bool,
+) -> Option<(Segment, SegmentPartials)> {
+    let quad: [(f64, f64); K] = quadrature(K).try_into().expect("K points");
+    let levers: [f64; K] = pulley.levers[..K].try_into().expect("K levers");
+    let radii: [f64; K] = pulley.radii[..K].try_into().expect("K radii");
     let mut s = Segment {
         penetration: f64::MIN,
         ..Segment::default()
@@ -648,17 +670,16 @@ pub fn segment(
     let mut d = SegmentPartials::default();
     // per point: elastic force, sliding velocity and their partials, for
     // the weighted mean
-    let mut pe = [0.0; MAX_POINTS];
-    let mut pv = [0.0; MAX_POINTS];
-    let mut pe_q = [RowVector3::zeros(); MAX_POINTS];
-    let mut pv_q = [RowVector3::zeros(); MAX_POINTS];
-    let mut pv_u = [RowVector3::zeros(); MAX_POINTS];
-    let mut pv_w = [0.0; MAX_POINTS];
-    let mut inside = [false; MAX_POINTS];
+    let mut pe = [0.0; K];
+    let mut pv = [0.0; K];
+    let mut pe_q = [RowVector3::zeros(); K];
+    let mut pv_q = [RowVector3::zeros(); K];
+    let mut pv_u = [RowVector3::zeros(); K];
+    let mut pv_w = [0.0; K];
+    let mut inside = [false; K];
     let mut any = false;
-    for (g, ((&(xi, wg), &lever), &radius)) in
-        quad.iter().zip(pulley.levers).zip(pulley.radii).enumerate()
-    {
+    for g in 0..K {
+        let ((xi, wg), lever, radius) = (quad[g], levers[g], radii[g]);
         let lw = law.share(wg);
         let pt = point(&lw, fr, xi, radius, lever, pulley, body);
         let PointContact {
@@ -729,7 +750,7 @@ pub fn segment(
     // the body's sliding velocity: the elastic-force-weighted mean (the
     // plain mean of the points inside if they carry no elastic force)
     let (mut se, mut sev, mut count, mut sv) = (0.0, 0.0, 0.0, 0.0);
-    for g in 0..quad.len() {
+    for g in 0..K {
         if inside[g] {
             se += pe[g];
             sev += pe[g] * pv[g];
@@ -743,7 +764,7 @@ pub fn segment(
     let mu0 = fr.coefficient(0.0, body.z, pulley.mu_s, pulley.mu_k);
     s.slip_power -= s.normal * mu0 * s.creep_rate;
     if partials && fr.creep_rate_slope(s.v_t, body.z) != 0.0 {
-        for g in 0..quad.len() {
+        for g in 0..K {
             if !inside[g] {
                 continue;
             }
