@@ -134,7 +134,7 @@ fn run() -> Result<(), String> {
         let w = speed.unwrap_or(0.0);
         if let Some(orbit) = &modes.orbit {
             eprintln!(
-                "speed {w:.1} rad/s: periodic orbit, period {:.4e} s, defect {:.1e} (settling: {})",
+                "speed {w:.1} rad/s: running state analysed, period {:.4e} s, defect {:.1e} (settling: {})",
                 orbit.period,
                 orbit.defect(),
                 orbit
