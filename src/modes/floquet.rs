@@ -35,8 +35,8 @@
 //!    stage), with the model's discrete creep reset (a body that touches
 //!    no pulley has z = 0, whatever its perturbation: its row of Phi is
 //!    zeroed), composed with S: M = S Phi(P). Second order, the damping
-//!    ratios converge with the substeps (the first-order theta method used
-//!    before left them moving by a factor 2 between 64 and 192 substeps);
+//!    ratios converge with the substeps (a first-order theta method (0.6)
+//!    leaves them moving by a factor 2 between 64 and 192 substeps);
 //!    L-stable, the bodies' fast pitching modes (omega h >> 1) are damped
 //!    out within the period instead of keeping multipliers of modulus ~1.
 //! 4. **Modes.** The eigenvalues mu of M: the per-substep factor mu^(1/N),
