@@ -138,7 +138,9 @@ fn run(label: &str, p: &DriveParams, horizon: f64) {
 /// (`kernels`, `5pk`, `s3`, `scaling` = `scaling5pk` + `scaling3`, `kubas`);
 /// none runs all but `kubas` and `rkf45`. `--points=K` runs the `5pk`,
 /// `rkf45` and `scaling` drives with K contact points along each body
-/// (`contact.points`; without it, the drive's own). `rkf45`: the 5PK drive
+/// (`contact.points`; without it, the drive's own); `--fmu-default` runs
+/// the `5pk` and `rkf45` sections on the FMU's default drive instead of the
+/// paper's section-4 set. `rkf45`: the 5PK drive
 /// with RKF45 (solver.method = 1) at its default tolerances over 0-0.1 s
 /// (`--horizon=T` s instead), for side-by-side step counts and CPU time.
 fn main() {
@@ -150,6 +152,17 @@ fn main() {
         })
     };
     let points = flag("--points=").map(|k| k as usize);
+    // the `5pk` and `rkf45` drive: the paper's section-4 set, or with
+    // `--fmu-default` the FMU's default drive (automatic contact damping
+    // ramp, damper across the SDE gaps)
+    let fmu_default = std::env::args().any(|a| a == "--fmu-default");
+    let drive_5pk = || {
+        if fmu_default {
+            DriveParams::default()
+        } else {
+            DriveParams::kubas_section4()
+        }
+    };
     let set_points = |p: &mut DriveParams| {
         if let Some(k) = points {
             p.contact.points = k;
@@ -172,7 +185,7 @@ fn main() {
     if want("5pk") {
         println!("# default 5PK drive, creep law, ROS34PW2, 0..{horizon} s");
         for tol in [1e-4, 1e-5] {
-            let mut p = DriveParams::kubas_section4();
+            let mut p = drive_5pk();
             p.solver.method = Method::Rosenbrock;
             p.solver.rel_tol = tol;
             set_points(&mut p);
@@ -222,7 +235,7 @@ fn main() {
     if picked.iter().any(|a| a == "rkf45") {
         let horizon = flag("--horizon=").unwrap_or(0.1);
         println!("# default 5PK drive, creep law, RKF45 at its default tolerances, 0..{horizon} s");
-        let mut p = DriveParams::kubas_section4();
+        let mut p = drive_5pk();
         p.solver.method = Method::Rkf45;
         set_points(&mut p);
         run(

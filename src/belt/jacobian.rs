@@ -1118,10 +1118,20 @@ mod tests {
         let mut ws = Workspace::new();
         let mut yp = y.to_vec();
         let mut checked = 0;
+        // a body's velocity: its column is held to the row's largest
+        // velocity entry, not the row's largest (a spring's), so that the
+        // dampers' partials (~1e-6 of the springs') are checked too
+        let velocity = |cc: usize| cc < BODY_DOF * sys.n && (3..6).contains(&(cc % BODY_DOF));
         for &c in &states {
-            // relative steps: positions ~0.1 m, velocities ~1 m/s, z ~1e-5 m
+            // relative steps: positions ~0.1 m, z ~1e-5 m; the bodies'
+            // velocities ~1 m/s (spins ~30 rad/s) by 1e-6 of at least 1 (the
+            // right-hand side is smooth in them at this scale: a step well
+            // inside the friction law's dv = 1e-2 m/s; smaller steps lose
+            // digits to rounding in the spin rows, I ~ 1e-7 kg m^2)
             let scale = if c < BODY_DOF * sys.n && c % BODY_DOF == 6 {
                 1e-11
+            } else if velocity(c) {
+                1e-6 * y[c].abs().max(1.0)
             } else {
                 1e-8 * y[c].abs().max(1e-2)
             };
@@ -1134,9 +1144,11 @@ mod tests {
                 let fd = (a[r] - b[r]) / (2.0 * scale);
                 let an = dense[r * dim + c];
                 // tolerance relative to the row's largest entry (finite
-                // differences lose digits on the small ones)
+                // differences lose digits on the small ones); in a velocity
+                // column, the row's largest velocity entry
                 let row_max = states
                     .iter()
+                    .filter(|&&cc| !velocity(c) || velocity(cc))
                     .map(|&cc| dense[r * dim + cc].abs())
                     .fold(0.0, f64::max);
                 assert!(
@@ -1191,9 +1203,19 @@ mod tests {
     fn jacobian_matches_finite_differences_for_every_force_law() {
         // just beyond the cap, so that differences do not straddle it
         let cap_creep = 1.5e-4 * (1.0 + 1e-6);
-        for law in [FrictionLaw::Creep, FrictionLaw::Kubas2014] {
+        // the SDE's damper across the gap as along it (the default, 1) and
+        // along the gap only (the paper's, 0)
+        for (law, shear) in [
+            (FrictionLaw::Creep, 0.0),
+            (FrictionLaw::Creep, 1.0),
+            (FrictionLaw::Kubas2014, 1.0),
+            (FrictionLaw::Kubas2014, 0.0),
+        ] {
             for speed_driven in [false, true] {
-                let d = drive(law, speed_driven);
+                let mut p = drive(law, speed_driven).params().clone();
+                p.belt.shear_damping_factor = shear;
+                let d = Drive::mounted(&p, 0.0).unwrap();
+                assert_eq!(d.system().axial.bt, shear * d.system().axial.b);
                 assert_eq!(d.system().friction.creep_max, 1e-4);
                 // each pulley its own automatic ramp, half its penetration
                 let sys = d.system();

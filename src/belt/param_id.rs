@@ -52,6 +52,7 @@ params! {
         BeltPreload => "belt preload",
         BeltEa => "belt axial stiffness EA",
         BeltAxialDamping => "belt axial damping",
+        BeltShearDampingFactor => "belt shear damping factor",
         BeltBendingStiffness => "belt bending stiffness",
         BeltBendingDamping => "belt bending damping",
         BeltMassPerLength => "belt mass per length",

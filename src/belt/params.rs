@@ -188,6 +188,11 @@ pub struct BeltParams {
     pub ea: f64,
     /// Axial damping [N s] (force per unit strain rate); each SDE gets value / l.
     pub axial_damping: f64,
+    /// Damping of each SDE across its gap (the joint's shear, the bodies'
+    /// pitching) as a multiple of the axial damping [-]: 1 = the isotropic
+    /// Kelvin-Voigt element (the damper acts on the gap vector as the spring
+    /// does), 0 = the paper's damper along the gap only (eq. 20).
+    pub shear_damping_factor: f64,
     /// Bending stiffness EI [N m^2]; each torsional SDE gets EI / l.
     pub bending_stiffness: f64,
     /// Bending damping [N m^2 s]; each torsional SDE gets value / l.
@@ -328,7 +333,11 @@ const PAPER3_BODY_LENGTH: f64 = (2.0 * 0.253 + 2.0 * std::f64::consts::PI * 0.08
 /// [`LIBRARY_MAX_STEPS`]): the paper's section-4 drive
 /// ([`DriveParams::kubas_section4`]) with the contact damping ramp chosen
 /// automatically per pulley (`contact.pMax` = 0; the paper's 1 mm leaves the
-/// radial contact mode of most belts undamped, docs/model.md "Contact").
+/// radial contact mode of most belts undamped, docs/model.md "Contact") and
+/// the SDE's damper acting across the gap as along it
+/// (`belt.shearDampingFactor` = 1; the paper's damps the stretch only and
+/// leaves the bodies' pitching in the spans undamped, docs/model.md "The
+/// bodies' pitching").
 impl Default for DriveParams {
     fn default() -> Self {
         let n = Param::PulleyCount.start() as usize;
@@ -339,6 +348,7 @@ impl Default for DriveParams {
                 preload: Param::BeltPreload.start(),
                 ea: Param::BeltEa.start(),
                 axial_damping: Param::BeltAxialDamping.start(),
+                shear_damping_factor: Param::BeltShearDampingFactor.start(),
                 bending_stiffness: Param::BeltBendingStiffness.start(),
                 bending_damping: Param::BeltBendingDamping.start(),
                 mass_per_length: Param::BeltMassPerLength.start(),
@@ -375,6 +385,8 @@ impl DriveParams {
                 preload: 550.0,
                 ea: 1.52e5,
                 axial_damping: 20.5 * l,
+                // the paper's SDE damps the gap's stretch only (eq. 20)
+                shear_damping_factor: 0.0,
                 bending_stiffness: 0.026 * l,
                 bending_damping: 0.0,
                 mass_per_length: 0.096,
@@ -429,6 +441,7 @@ impl DriveParams {
                 preload: 150.0,
                 ea: 1e4,
                 axial_damping: 0.5 * l,
+                shear_damping_factor: 0.0,
                 bending_stiffness: 0.0208 * l,
                 bending_damping: 0.0,
                 mass_per_length: 1.036,
@@ -659,6 +672,7 @@ impl DriveParams {
             b.preload,
         )?;
         declared(Param::BeltAxialDamping, b.axial_damping)?;
+        declared(Param::BeltShearDampingFactor, b.shear_damping_factor)?;
         declared(Param::BeltBendingStiffness, b.bending_stiffness)?;
         declared(Param::BeltBendingDamping, b.bending_damping)?;
         declared(Param::BeltMassPerLength, b.mass_per_length)?;

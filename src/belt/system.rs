@@ -566,6 +566,7 @@ impl BeltSystem {
             axial: AxialSde {
                 k: b.ea / l,
                 b: b.axial_damping / l,
+                bt: b.shear_damping_factor * b.axial_damping / l,
                 eps2: (TUNING.sde_regularisation * l) * (TUNING.sde_regularisation * l),
             },
             bend: TorsionalSde {
@@ -1047,7 +1048,7 @@ impl BeltSystem {
             let (p, c) = (k, k + 1);
             let (d, dd) = sde::gap(end(b, p), end(b, c));
             let (d2, rate) = axial.rate(d, dd);
-            let [fx, fy] = axial.force(d, rate);
+            let [fx, fy] = axial.force(d, dd, rate);
             b.fx[k] = fx;
             b.fy[k] = fy;
             // torques of the end forces about each body's centre
@@ -1058,7 +1059,7 @@ impl BeltSystem {
             let moment = bend.moment(dphi, dw);
             b.torque_cur[k] = t_cur - moment;
             b.torque_prev[k] = t_prev + moment;
-            b.diss[k] = axial.dissipation(d2, rate) + bend.dissipation(dw);
+            b.diss[k] = axial.dissipation(d2, dd, rate) + bend.dissipation(dw);
         }
         // dissipation of SDEs i0..i0 + len (each counted in its own block)
         p_diss += sum(&b.diss[..len]);

@@ -74,6 +74,7 @@ fn real_slot<'a>(p: &'a mut DriveParams, v: &VarInfo) -> Option<&'a mut f64> {
         Var::BeltPreload => &mut p.belt.preload,
         Var::BeltEA => &mut p.belt.ea,
         Var::BeltAxialDamping => &mut p.belt.axial_damping,
+        Var::BeltShearDampingFactor => &mut p.belt.shear_damping_factor,
         Var::BeltBendingStiffness => &mut p.belt.bending_stiffness,
         Var::BeltBendingDamping => &mut p.belt.bending_damping,
         Var::BeltMassPerLength => &mut p.belt.mass_per_length,

@@ -19,6 +19,7 @@ const PARAM_VARIABLES: &[(&str, &str)] = &[
     ("BeltPreload", "belt.preload"),
     ("BeltEa", "belt.EA"),
     ("BeltAxialDamping", "belt.axialDamping"),
+    ("BeltShearDampingFactor", "belt.shearDampingFactor"),
     ("BeltBendingStiffness", "belt.bendingStiffness"),
     ("BeltBendingDamping", "belt.bendingDamping"),
     ("BeltMassPerLength", "belt.massPerLength"),

@@ -43,15 +43,21 @@ pub fn gap(p: BodyEnd, c: BodyEnd) -> ([f64; 2], [f64; 2]) {
 
 /// Translational SDE: a zero-rest-length Kelvin-Voigt element between the
 /// end points of two neighbouring bodies (eq. 20-23). Its elastic force is
-/// `k d` (k = EA/l), its damping force `b rho d` acts along the gap, with
-/// the stretch rate `rho = d.d' / (|d|^2 + eps2)` regularised at a zero
-/// gap.
+/// `k d` (k = EA/l), isotropic; its damping force
+/// `b_t d' + (b - b_t) rho d` is `b` times the stretch rate along the gap
+/// (eq. 20's `b dl/dt`) and `b_t` times the gap's rate across it (the
+/// joint's shear, the bodies' pitching), with the stretch rate
+/// `rho = d.d' / (|d|^2 + eps2)` regularised at a zero gap. `b_t = b` is
+/// the isotropic element `b d'` (a damper on the same strain as the spring),
+/// `b_t = 0` the paper's damper along the gap alone.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AxialSde {
     /// Stiffness EA/l [N/m].
     pub k: f64,
-    /// Damping B/l [N s/m].
+    /// Damping along the gap, B/l [N s/m].
     pub b: f64,
+    /// Damping across the gap [N s/m] (`belt.shearDampingFactor` times `b`).
+    pub bt: f64,
     /// Squared regularisation length of the direction at a zero gap [m^2].
     pub eps2: f64,
 }
@@ -66,24 +72,33 @@ impl AxialSde {
     }
 
     /// Force on the following body (minus it on the preceding one) for gap
-    /// `d` and stretch rate `rate` ([`Self::rate`]).
+    /// `d`, its rate `dd` and the stretch rate `rate` ([`Self::rate`]):
+    /// `k d + b_t d' + (b - b_t) rho d`.
     #[inline(always)]
-    pub fn force(&self, d: [f64; 2], rate: f64) -> [f64; 2] {
-        let (k, b) = (self.k, self.b);
-        [k * d[0] + b * rate * d[0], k * d[1] + b * rate * d[1]]
+    pub fn force(&self, d: [f64; 2], dd: [f64; 2], rate: f64) -> [f64; 2] {
+        let (k, bt, ba) = (self.k, self.bt, self.b - self.bt);
+        [
+            k * d[0] + bt * dd[0] + ba * rate * d[0],
+            k * d[1] + bt * dd[1] + ba * rate * d[1],
+        ]
     }
 
-    /// Belt tension carried by the element: the force's length |d| (k + b rho).
+    /// Belt tension carried by the element, the force's component along the
+    /// gap: |d| (k + b rho) (the damper across the gap adds nothing along
+    /// it, but for the regulariser: b_t rho eps2 / |d|).
     #[inline(always)]
     pub fn tension(&self, d2: f64, rate: f64) -> f64 {
         let l = d2.sqrt();
         self.k * l + self.b * rate * l
     }
 
-    /// Power dissipated by the damper, b rho^2 |d|^2.
+    /// Power dissipated by the damper, `b_t |d'|^2 + (b - b_t) rho^2 |d|^2`,
+    /// i.e. `b (d'.e)^2 + b_t |d'_across|^2` (e = d/|d|; >= 0 for any
+    /// b, b_t >= 0, since rho^2 |d|^2 <= |d'|^2).
     #[inline(always)]
-    pub fn dissipation(&self, d2: f64, rate: f64) -> f64 {
-        self.b * rate * rate * d2
+    pub fn dissipation(&self, d2: f64, dd: [f64; 2], rate: f64) -> f64 {
+        let dd2 = dd[0] * dd[0] + dd[1] * dd[1];
+        self.bt * dd2 + (self.b - self.bt) * rate * rate * d2
     }
 
     /// Elastic energy stored at squared gap length `d2`: k |d|^2 / 2.
@@ -94,7 +109,8 @@ impl AxialSde {
 
     /// The force ([`Self::force`]) and its partial derivatives with respect
     /// to the gap `d` and to its rate `d'`, for the Jacobian:
-    /// `F_d = (k + b rho) I + b d (d rho/d d)^T`, `F_d' = b d d^T / (|d|^2 + eps2)`.
+    /// `F_d = (k + (b - b_t) rho) I + (b - b_t) d (d rho/d d)^T`,
+    /// `F_d' = b_t I + (b - b_t) d d^T / (|d|^2 + eps2)`.
     #[inline(always)]
     pub fn partials(
         &self,
@@ -103,11 +119,12 @@ impl AxialSde {
     ) -> (Vector2<f64>, Matrix2<f64>, Matrix2<f64>) {
         let (d2, rho) = self.rate(d, dd);
         let den = d2 + self.eps2;
-        let f = self.force(d, rho);
+        let f = self.force(d, dd, rho);
+        let ba = self.b - self.bt;
         let (d, dd) = (Vector2::from(d), Vector2::from(dd));
         let drho_dd = dd / den - (2.0 * rho / den) * d;
-        let f_d = Matrix2::identity() * (self.k + self.b * rho) + self.b * d * drho_dd.transpose();
-        let f_dd = (self.b / den) * d * d.transpose();
+        let f_d = Matrix2::identity() * (self.k + ba * rho) + ba * d * drho_dd.transpose();
+        let f_dd = Matrix2::identity() * self.bt + (ba / den) * d * d.transpose();
         (Vector2::from(f), f_d, f_dd)
     }
 }
@@ -154,47 +171,74 @@ impl TorsionalSde {
 mod tests {
     use super::*;
 
-    const AXIAL: AxialSde = AxialSde {
-        k: 2.0e6,
-        b: 35.0,
-        eps2: 1e-16,
-    };
+    /// The isotropic element (b_t = b, the default) and the paper's
+    /// (b_t = 0, damping along the gap only) and one damping more across the
+    /// gap than along it (b_t = 3 b): every law below holds for each.
+    const LAWS: [AxialSde; 3] = [
+        AxialSde {
+            k: 2.0e6,
+            b: 35.0,
+            bt: 35.0,
+            eps2: 1e-16,
+        },
+        AxialSde {
+            k: 2.0e6,
+            b: 35.0,
+            bt: 0.0,
+            eps2: 1e-16,
+        },
+        AxialSde {
+            k: 2.0e6,
+            b: 35.0,
+            bt: 105.0,
+            eps2: 1e-16,
+        },
+    ];
 
-    fn force_of(d: [f64; 2], dd: [f64; 2]) -> [f64; 2] {
-        AXIAL.force(d, AXIAL.rate(d, dd).1)
+    fn force_of(law: &AxialSde, d: [f64; 2], dd: [f64; 2]) -> [f64; 2] {
+        law.force(d, dd, law.rate(d, dd).1)
     }
 
     /// Central differences of the force against [`AxialSde::partials`].
     /// Steps of 1e-4 of the gap and rate: the force is smooth there (a
-    /// quotient of quadratics), so the truncation error is ~(1e-4)^2
-    /// relative and rounding ~1e-16 / 1e-4; 1e-6 relative covers both.
+    /// quotient of quadratics, linear in the rate across the gap), so the
+    /// truncation error is ~(1e-4)^2 relative and rounding ~1e-16 / 1e-4;
+    /// 1e-6 relative covers both.
     #[test]
     fn axial_partials_match_differences() {
-        for &(d, dd) in &[
-            ([1.2e-4, -3.0e-5], [0.02, 0.5]),
-            ([-2.0e-3, 4.0e-4], [-1.5, 0.3]),
-            ([5.0e-5, 5.0e-5], [0.0, 0.0]),
-        ] {
-            let (f, f_d, f_dd) = AXIAL.partials(d, dd);
-            assert_eq!([f[0], f[1]], force_of(d, dd));
-            for c in 0..2 {
-                let h = 1e-4 * (d[0].abs() + d[1].abs());
-                let (mut a, mut b) = (d, d);
-                a[c] += h;
-                b[c] -= h;
-                let (fa, fb) = (force_of(a, dd), force_of(b, dd));
-                let hv = 1e-4 * (dd[0].abs() + dd[1].abs()).max(1.0);
-                let (mut a, mut b) = (dd, dd);
-                a[c] += hv;
-                b[c] -= hv;
-                let (ga, gb) = (force_of(d, a), force_of(d, b));
-                for r in 0..2 {
-                    let fd = (fa[r] - fb[r]) / (2.0 * h);
-                    let gd = (ga[r] - gb[r]) / (2.0 * hv);
-                    let scale = f_d.abs().max() + 1.0;
-                    assert!((f_d[(r, c)] - fd).abs() <= 1e-6 * scale, "{:?} {fd}", f_d);
-                    let scale = f_dd.abs().max() + 1e-9;
-                    assert!((f_dd[(r, c)] - gd).abs() <= 1e-6 * scale, "{:?} {gd}", f_dd);
+        for law in &LAWS {
+            for &(d, dd) in &[
+                ([1.2e-4, -3.0e-5], [0.02, 0.5]),
+                ([-2.0e-3, 4.0e-4], [-1.5, 0.3]),
+                ([5.0e-5, 5.0e-5], [0.0, 0.0]),
+            ] {
+                let (f, f_d, f_dd) = law.partials(d, dd);
+                assert_eq!([f[0], f[1]], force_of(law, d, dd));
+                for c in 0..2 {
+                    let h = 1e-4 * (d[0].abs() + d[1].abs());
+                    let (mut a, mut b) = (d, d);
+                    a[c] += h;
+                    b[c] -= h;
+                    let (fa, fb) = (force_of(law, a, dd), force_of(law, b, dd));
+                    let hv = 1e-4 * (dd[0].abs() + dd[1].abs()).max(1.0);
+                    let (mut a, mut b) = (dd, dd);
+                    a[c] += hv;
+                    b[c] -= hv;
+                    let (ga, gb) = (force_of(law, d, a), force_of(law, d, b));
+                    for r in 0..2 {
+                        let fd = (fa[r] - fb[r]) / (2.0 * h);
+                        let gd = (ga[r] - gb[r]) / (2.0 * hv);
+                        let scale = f_d.abs().max() + 1.0;
+                        assert!(
+                            (f_d[(r, c)] - fd).abs() <= 1e-6 * scale,
+                            "{law:?} {f_d:?} {fd}"
+                        );
+                        let scale = f_dd.abs().max() + 1e-9;
+                        assert!(
+                            (f_dd[(r, c)] - gd).abs() <= 1e-6 * scale,
+                            "{law:?} {f_dd:?} {gd}"
+                        );
+                    }
                 }
             }
         }
@@ -202,31 +246,82 @@ mod tests {
 
     /// The elastic force is the gradient of the energy, the damping power is
     /// the damping force times the gap rate (exact but for the regulariser
-    /// eps2 in rho's denominator: relative difference eps2 / |d|^2 = 1e-8 here).
+    /// eps2 in rho's denominator: relative difference eps2 / |d|^2 = 1e-8 here),
+    /// and the tension is the force's component along the gap (its length
+    /// when the damper acts along the gap only).
     #[test]
     fn axial_energy_and_dissipation_agree_with_the_force() {
-        let d = [1.0e-4, 2.0e-5];
-        let dd = [0.3, -0.1];
-        let (d2, rate) = AXIAL.rate(d, dd);
-        let h = 1e-9;
-        let de = (AXIAL.energy((d[0] + h) * (d[0] + h) + d[1] * d[1])
-            - AXIAL.energy((d[0] - h) * (d[0] - h) + d[1] * d[1]))
-            / (2.0 * h);
-        let elastic = AXIAL.force(d, 0.0);
-        assert!(
-            (de - elastic[0]).abs() <= 1e-6 * elastic[0].abs(),
-            "{de} {elastic:?}"
-        );
-        let f = AXIAL.force(d, rate);
-        let damping_power = (f[0] - elastic[0]) * dd[0] + (f[1] - elastic[1]) * dd[1];
-        let diss = AXIAL.dissipation(d2, rate);
-        assert!(
-            (diss - damping_power).abs() <= 1e-7 * diss,
-            "{diss} {damping_power}"
-        );
-        // the tension is the force's length
-        let len = (f[0] * f[0] + f[1] * f[1]).sqrt();
-        assert!((AXIAL.tension(d2, rate) - len).abs() <= 1e-12 * len);
+        for law in &LAWS {
+            let d = [1.0e-4, 2.0e-5];
+            let dd = [0.3, -0.1];
+            let (d2, rate) = law.rate(d, dd);
+            let h = 1e-9;
+            let de = (law.energy((d[0] + h) * (d[0] + h) + d[1] * d[1])
+                - law.energy((d[0] - h) * (d[0] - h) + d[1] * d[1]))
+                / (2.0 * h);
+            let elastic = law.force(d, [0.0; 2], 0.0);
+            assert!(
+                (de - elastic[0]).abs() <= 1e-6 * elastic[0].abs(),
+                "{de} {elastic:?}"
+            );
+            let f = law.force(d, dd, rate);
+            let damping_power = (f[0] - elastic[0]) * dd[0] + (f[1] - elastic[1]) * dd[1];
+            let diss = law.dissipation(d2, dd, rate);
+            assert!(
+                (diss - damping_power).abs() <= 1e-7 * diss,
+                "{law:?} {diss} {damping_power}"
+            );
+            let len = d2.sqrt();
+            let along = (f[0] * d[0] + f[1] * d[1]) / len;
+            assert!(
+                (law.tension(d2, rate) - along).abs() <= 1e-7 * along.abs(),
+                "{law:?}"
+            );
+            if law.bt == 0.0 {
+                let norm = (f[0] * f[0] + f[1] * f[1]).sqrt();
+                assert!((law.tension(d2, rate) - norm).abs() <= 1e-12 * norm);
+            }
+        }
+    }
+
+    /// A gap that turns at constant length (the bodies' pitching, the
+    /// joint's shear) meets the damper b_t across it and none along it; a
+    /// gap that stretches in its own direction meets b along it; the
+    /// dissipation is never negative, not even for b_t > b or d' across.
+    #[test]
+    fn axial_damper_along_and_across_the_gap() {
+        for law in &LAWS {
+            let d = [2.0e-4, 0.0];
+            // across: d' normal to d, rho = 0
+            let dd = [0.0, 0.4];
+            let (d2, rate) = law.rate(d, dd);
+            assert_eq!(rate, 0.0);
+            let f = law.force(d, dd, rate);
+            assert_eq!(f, [law.k * d[0], law.bt * dd[1]]);
+            assert_eq!(law.dissipation(d2, dd, rate), law.bt * (dd[1] * dd[1]));
+            // along: d' parallel to d, rho |d| = |d'| (1 - eps2/|d|^2): the
+            // regulariser's 2.5e-9 relative of the damping force bounds the
+            // difference
+            let dd = [0.4, 0.0];
+            let (d2, rate) = law.rate(d, dd);
+            let f = law.force(d, dd, rate);
+            let along = law.k * d[0] + law.b * dd[0];
+            assert!((f[0] - along).abs() <= 1e-8 * along && f[1] == 0.0);
+            let diss = law.dissipation(d2, dd, rate);
+            assert!((diss - law.b * 0.16).abs() <= 1e-7 * diss, "{diss}");
+            // regular at a closed gap: the damper across acts alone
+            let f = force_of(law, [0.0; 2], [0.3, -0.2]);
+            assert_eq!(f, [law.bt * 0.3, law.bt * -0.2]);
+            for (d, dd) in [
+                ([1e-4, 1e-4], [1.0, -1.0]),
+                ([1e-4, -3e-5], [0.2, 0.9]),
+                ([0.0, 0.0], [0.5, 0.5]),
+                ([1e-9, 0.0], [3.0, 0.01]),
+            ] {
+                let (d2, rate) = law.rate(d, dd);
+                assert!(law.dissipation(d2, dd, rate) >= 0.0, "{law:?} {d:?} {dd:?}");
+            }
+        }
     }
 
     /// Moment linear in both arguments: differences are exact up to
