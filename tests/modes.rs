@@ -1377,11 +1377,11 @@ fn span_pitching_is_damped_by_the_sde_with_both_integrators() {
 /// prediction must lie within 5 % of it (the figure: the analysis
 /// is a linearisation of the very model that runs; the 0.25 s window
 /// resolves 4 Hz and locates an isolated peak to a small fraction of it).
-/// Measured: 67.11 Hz predicted, 66.17 Hz in the time domain (-1.4 %, peak
-/// 576 x the floor). The decay of the response is printed beside the
+/// Measured: 67.35 Hz predicted, 66.20 Hz in the time domain (-1.7 %, peak
+/// 431 x the floor). The decay of the response is printed beside the
 /// predicted damping ratio; it is not asserted (the demodulated amplitude
-/// does not decay as one exponential: zeta 0.045-0.058 from it, against
-/// 0.037 predicted: the drive's unstable span modes grow in both runs).
+/// does not decay as one exponential: zeta 0.058 from it, against 0.039
+/// predicted: the drive's unstable span modes grow in both runs).
 /// Then the growth of the unstable span mode from the same analysis
 /// ([`span_growth_is_the_floquet_damping`]).
 #[test]
@@ -1499,7 +1499,7 @@ fn accessory_running_rotational_mode_rings_in_the_time_domain() {
 /// ends (unchecked beyond: at 0.4 s the span is at 1e-3 m). Tolerance 15 %:
 /// the Floquet analysis' zeta moves by 4 % between 128 and 256 steps, and
 /// the slope over sub-windows of the fit (0.12-0.28, 0.14-0.28 s) by 4 %.
-/// Measured: -0.0184 predicted (183.6 Hz); see the printout.
+/// Measured: -0.0183 predicted (183.6 Hz), -0.0189 from the growth (+2.9 %).
 fn span_growth_is_the_floquet_damping(m: &Modes, mut drive: Drive) {
     let unstable = m
         .modes
