@@ -7,9 +7,13 @@
 //! `examples/creep_wrap.py` (docs/validation.md, "Why a coarse mesh slips
 //! more").
 //!
-//! `cargo run --profile ci --example wrap_profile -- [5pk|2to1|accessory]
-//! [bodies] [bin width, degrees] [contact.points]` (the drive's own
-//! `contact.points` when not given or 0).
+//! `cargo run --profile ci --example wrap_profile -- [5pk|2to1|accessory|sixty|heavy]
+//! [bodies] [bin width, degrees] [contact.points] [solver.method] [solver.relTol]`
+//! (the drive's own `contact.points` when not given or 0; the stiff method
+//! (2) at relTol 1e-5, absTol 1e-7 when not given; a given relTol keeps the
+//! default absTol, as the tests run). `sixty` is the 60-body drive of
+//! `tests/defaults.rs` (`integrators_agree_on_a_sixty_body_drive`), `heavy`
+//! the heavy-belt drive of `tests/python/test_mean_forces.py`.
 //!
 //! Signs follow the belt: f > 0 pulls the belt along its travel, z > 0 and
 //! v_T > 0 mean the pulley surface runs ahead of the belt (the belt lags).
@@ -57,6 +61,41 @@ struct WrapFrame {
     angle: f64,
 }
 
+/// The 60-body drive of `tests/defaults.rs`: two 50 mm pulleys 0.25 m
+/// apart, 300 N preload, pulley 1 driven by 2 N m (reached over 0.05 s),
+/// pulley 2 loaded by 0.05 N m s/rad.
+fn sixty_body_drive() -> DriveParams {
+    let mut p = DriveParams::default();
+    p.belt.n_bodies = 60;
+    p.belt.preload = 300.0;
+    p.pulleys[0].radius = 0.05;
+    p.pulleys[1].radius = 0.05;
+    p.pulleys[1].x = 0.25;
+    p.pulleys[0].torque_ramp = -2.0;
+    p.pulleys[0].ramp_time = 0.05;
+    p.pulleys[1].load_damping = 0.05;
+    p.pulleys[1].ramp_time = 0.05;
+    p
+}
+
+/// The heavy-belt drive of `tests/python/test_mean_forces.py`: a 60 mm
+/// crank speed-driven to 150 rad/s over 0.1 s, a 27 mm pulley 0.35 m away
+/// loaded by 0.01 N m s/rad, belt 0.3 kg/m, 120 bodies.
+fn heavy_belt_drive() -> DriveParams {
+    let mut p = DriveParams::default();
+    p.belt.n_bodies = 120;
+    p.belt.mass_per_length = 0.3;
+    p.pulleys[0].radius = 0.06;
+    p.pulleys[0].speed_driven = true;
+    p.pulleys[0].omega_ramp = -150.0;
+    p.pulleys[0].torque_ramp = 0.0;
+    p.pulleys[0].ramp_time = 0.1;
+    p.pulleys[1].x = 0.35;
+    p.pulleys[1].load_damping = 0.01;
+    p.pulleys[1].ramp_time = 0.1;
+    p
+}
+
 fn main() {
     let a: Vec<String> = std::env::args().skip(1).collect();
     let arg = |i: usize, d: &str| a.get(i).cloned().unwrap_or_else(|| d.to_string());
@@ -64,9 +103,17 @@ fn main() {
     let n: usize = arg(1, "150").parse().unwrap();
     let bin: f64 = arg(2, "10").parse::<f64>().unwrap().to_radians();
     let points: usize = arg(3, "0").parse().unwrap();
+    let method = match arg(4, "2").as_str() {
+        "1" => Method::Rkf45,
+        _ => Method::Rosenbrock,
+    };
+    // given: with the default absTol, as the tests run it
+    let tol: Option<f64> = a.get(5).map(|v| v.parse().unwrap());
     let (mut p, (t0, t1)) = match which.as_str() {
         "2to1" => (two_to_one(), (0.5, 0.8)),
         "accessory" => (from_ssv("accessory-drive-4.ssv"), (0.8, 1.1)),
+        "sixty" => (sixty_body_drive(), (0.3, 0.5)),
+        "heavy" => (heavy_belt_drive(), (0.2, 0.3)),
         _ => (DriveParams::kubas_section4(), (0.5, 0.8)),
     };
     p.belt.n_bodies = n;
@@ -74,9 +121,14 @@ fn main() {
         p.contact.points = points;
     }
     p.probe_body = 0;
-    p.solver.method = Method::Rosenbrock;
-    p.solver.rel_tol = 1e-5;
-    p.solver.abs_tol = 1e-7;
+    p.solver.method = method;
+    match tol {
+        Some(t) => p.solver.rel_tol = t,
+        None => {
+            p.solver.rel_tol = 1e-5;
+            p.solver.abs_tol = 1e-7;
+        }
+    }
     p.solver.max_steps = u64::MAX;
     let np = p.pulleys.len();
     let mut d = Drive::new(&p, 0.0).expect("parameters");
@@ -113,6 +165,9 @@ fn main() {
     let mut ten = vec![[0.0f64; 2]; ns * nb];
     let mut con = vec![[0.0f64; 5]; ns * nb];
     let samples = 60;
+    // per pulley: the sum of the mean belt torques over the snapshots'
+    // equal intervals (their mean is the window's mean)
+    let mut belt_torque = vec![0.0f64; np];
     // travel angle from the arrival on wrap m of a point near its pulley
     let travel = |m: usize, c: [f64; 2], x: f64, y: f64| -> Option<usize> {
         let f = &frames[m];
@@ -127,6 +182,9 @@ fn main() {
     for k in 1..=samples {
         d.advance(t0 + (t1 - t0) * k as f64 / samples as f64)
             .expect("advance");
+        for (j, t) in belt_torque.iter_mut().enumerate() {
+            *t += d.outputs().pulleys[j].mean_belt_torque / samples as f64;
+        }
         let sys = d.system().clone();
         let y = d.state().to_vec();
         let centres: Vec<[f64; 2]> = (0..np).map(|j| sys.pulley_centre(j, &y).0).collect();
@@ -175,6 +233,23 @@ fn main() {
         l * 1e3,
         p.contact.points,
         losses.join(" / ")
+    );
+    // the belt's loss: the power it takes from the pulleys less the power it
+    // gives them, from the window's mean belt torques and speeds
+    let loss: f64 = -(0..np).map(|j| belt_torque[j] * w[j]).sum::<f64>();
+    println!(
+        "mean belt torque [N m] {}, mean speed [rad/s] {}, belt loss {:.3} W, {} steps",
+        belt_torque
+            .iter()
+            .map(|t| format!("{t:.4}"))
+            .collect::<Vec<_>>()
+            .join(" / "),
+        w.iter()
+            .map(|v| format!("{v:.4}"))
+            .collect::<Vec<_>>()
+            .join(" / "),
+        loss,
+        d.stats().steps
     );
     // the constants of the reduced model (examples/creep_wrap.py)
     println!(

@@ -450,11 +450,43 @@ fn collect_arc<R: Recorder>(
             }
         }
     }
-    (
-        sum(&b.torque_q[lo..hi]),
-        sum(&b.diss_q[lo..hi]),
-        [sum(&b.cfx[lo..hi]), sum(&b.cfy[lo..hi])],
-    )
+    let [torque, diss, fx, fy] = sum4(
+        [&b.torque_q, &b.diss_q, &b.cfx, &b.cfy].map(|c| &c[lo..end]),
+        hi - lo,
+    );
+    (torque, diss, [fx, fy])
+}
+
+/// [`sum`] of the first `len` values of each of four columns at once,
+/// bit for bit: the same partial sums over the whole chunks of four, the
+/// remainder summed in order, then combined as [`sum`] combines them. The
+/// columns run on to a multiple of [`PAD`] with +0 past `len` (a contact
+/// loop's discarded lanes), so the remainder is summed as a whole chunk
+/// (adding +0 leaves a sum unchanged but for the sign of a zero, which
+/// the combination absorbs: the partial sums, started at +0, are never -0).
+#[inline(always)]
+fn sum4(cols: [&[f64]; 4], len: usize) -> [f64; 4] {
+    let full = len & !3;
+    let padded = cols[0].len();
+    assert!(padded.is_multiple_of(PAD) && len <= padded && cols.iter().all(|c| c.len() == padded));
+    let mut acc = [[0.0; 4]; 4];
+    for c in (0..full).step_by(4) {
+        for (a, col) in acc.iter_mut().zip(cols) {
+            for (k, a) in a.iter_mut().enumerate() {
+                *a += col[c + k];
+            }
+        }
+    }
+    std::array::from_fn(|s| {
+        let [a0, a1, a2, a3] = acc[s];
+        let rest = if full < padded {
+            let r = &cols[s][full..full + 4];
+            ((r[0] + r[1]) + r[2]) + r[3]
+        } else {
+            0.0
+        };
+        (a0 + a1) + (a2 + a3) + rest
+    })
 }
 
 /// Sum in four interleaved partial sums (vectorises).
@@ -828,9 +860,9 @@ impl BeltSystem {
             isa,
             (ws, dy, rec),
             #[inline(always)]
-            move |(ws, dy, rec)| self.rhs_impl::<R, false>(ws, t, y, dy, rec),
+            move |(ws, dy, rec)| self.rhs_impl::<R, false>(ws, t, y, dy, rec, false),
             #[inline(always)]
-            move |(ws, dy, rec)| self.rhs_impl::<R, true>(ws, t, y, dy, rec),
+            move |(ws, dy, rec)| self.rhs_impl::<R, true>(ws, t, y, dy, rec, isa == Isa::Avx512),
         );
     }
 
@@ -856,7 +888,8 @@ impl BeltSystem {
 
     /// `WIDE`: compiled into a build with AVX (the layout conversions then
     /// move four bodies at a time); only the AVX2 and AVX-512 builds, called
-    /// after the CPU check, set it.
+    /// after the CPU check, set it. `pad`: the body loops run on to a
+    /// multiple of [`PAD`] (the AVX-512 build, see [`Self::block`]).
     #[inline(always)]
     fn rhs_impl<R: Recorder, const WIDE: bool>(
         &self,
@@ -865,6 +898,7 @@ impl BeltSystem {
         y: &[f64],
         dy: &mut [f64],
         rec: &mut R,
+        pad: bool,
     ) {
         let n = self.n;
         let np = self.np;
@@ -899,7 +933,7 @@ impl BeltSystem {
                 belt_torque: &mut belt_torque,
                 hub: &mut hub,
             };
-            p_diss += self.block::<R, WIDE>(blk, pulleys, i0, len, first, y, dy, state, rec);
+            p_diss += self.block::<R, WIDE>(blk, pulleys, i0, len, first, y, dy, state, rec, pad);
             i0 += len;
             if i0 < n {
                 blk.carry(len);
@@ -954,10 +988,7 @@ impl BeltSystem {
                 rec.hub_force(j, hub[j][0], hub[j][1]);
             }
             let q = self.impulse_offset(j);
-            dy[q] = belt_torque[j];
-            dy[q + 1] = bal.drive;
-            dy[q + 2] = hub[j][0];
-            dy[q + 3] = hub[j][1];
+            dy[q..q + IMPULSES].copy_from_slice(&[belt_torque[j], bal.drive, hub[j][0], hub[j][1]]);
         }
         // Tensioner arms: I_arm alpha'' = (c - pivot) x F_hub + M_arm.
         for (j, pc) in self.pulleys[..np].iter().enumerate() {
@@ -996,6 +1027,7 @@ impl BeltSystem {
         dy: &mut [f64],
         state: PulleyState,
         rec: &mut R,
+        pad: bool,
     ) -> f64 {
         let PulleyState {
             omega: omega_p,
@@ -1014,7 +1046,12 @@ impl BeltSystem {
         let last = i0 + len == n;
         // m = 0 of the first block is body n - 1, m = len + 1 of the last
         // is body 0; in between the bodies are contiguous.
-        let (m_lo, m_hi) = (m0.max(1), if last { len + 1 } else { len + 2 });
+        // Columns from m = 1 on (body i0, already carried unless this is
+        // the first block: gathered again, the same values) so that the
+        // four-body stores start on the line boundary of the columns'
+        // index 1 (see [`Block`]); from m = 2 every other store straddled
+        // two lines.
+        let (m_lo, m_hi) = (1, if last { len + 1 } else { len + 2 });
         if first {
             b.gather::<WIDE>(0, &y[BODY_DOF * (n - 1)..BODY_DOF * n]);
         }
@@ -1025,7 +1062,17 @@ impl BeltSystem {
         if last {
             b.gather::<WIDE>(len + 1, &y[..BODY_DOF]);
         }
-        for m in m0..len + 2 {
+        // With `pad` (the AVX-512 build) the loops of steps 1, 2 and 4 run
+        // on to a multiple of PAD bodies, as the contact loops do: no scalar
+        // remainder of up to 7 bodies (that of the SDE loop gathered each
+        // body's seven values with a vector gather); the lanes past the
+        // block compute on stale scratch values and are never read. The
+        // narrower builds' remainders are short: padding them cost more
+        // instructions than it saved.
+        let upto = |from: usize, to: usize| if pad { from + padded(to - from) } else { to };
+        let m_end = upto(m0, len + 2);
+        assert!(m_end <= BODY_COL);
+        for m in m0..m_end {
             let (sn, cs) = trig::sin_cos(b.phi[m]);
             b.hx[m] = hl * cs;
             b.hy[m] = hl * sn;
@@ -1044,7 +1091,9 @@ impl BeltSystem {
             w: b.w[m],
         };
         let k0 = if first { 0 } else { 1 };
-        for k in k0..len + 1 {
+        let k_end = upto(k0, len + 1);
+        assert!(k_end < BODY_COL.min(SDE_COL));
+        for k in k0..k_end {
             let (p, c) = (k, k + 1);
             let (d, dd) = sde::gap(end(b, p), end(b, c));
             let (d2, rate) = axial.rate(d, dd);
@@ -1117,7 +1166,7 @@ impl BeltSystem {
         // (4) Accelerations (eq. 20-23): own forces, the left SDE (j) and
         // the right SDE (j + 1) of each body.
         let (inv_m, inv_i, c) = (self.inv_mass, self.inv_inertia, self.relaxation.damping);
-        for j in 0..len {
+        for j in 0..upto(0, len) {
             let m = j + 1;
             b.ax[j] = (b.ofx[j] - b.fx[j] + b.fx[j + 1]) * inv_m - c * b.vx[m];
             b.ay[j] = (b.ofy[j] - b.fy[j] + b.fy[j + 1]) * inv_m - c * b.vy[m];
@@ -1696,5 +1745,46 @@ fn contact_along_arc<const K: usize>(
                 stored,
             ];
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `sum4` gives each column's `sum` to the last bit, for every length
+    /// up to two blocks of padding, with values of mixed sign and size,
+    /// zeros of both signs and +0 in the padding (as the contact loops
+    /// leave it).
+    #[test]
+    fn sum4_is_sum_bit_for_bit() {
+        let value = |s: usize, i: usize| -> f64 {
+            match (s * 7 + i * 13) % 11 {
+                0 => -0.0,
+                1 => 0.0,
+                k => (k as f64 - 5.5) * 10f64.powi((i % 7) as i32 - 3) / 3.0,
+            }
+        };
+        for len in 0..=2 * PAD {
+            let cols: Vec<Vec<f64>> = (0..4)
+                .map(|s| {
+                    (0..padded(len).max(PAD))
+                        .map(|i| if i < len { value(s, i) } else { 0.0 })
+                        .collect()
+                })
+                .collect();
+            let got = sum4(std::array::from_fn(|s| cols[s].as_slice()), len);
+            for s in 0..4 {
+                assert_eq!(
+                    got[s].to_bits(),
+                    sum(&cols[s][..len]).to_bits(),
+                    "len {len}, column {s}"
+                );
+            }
+        }
+        // all -0: sum gives +0 (its partial sums start at +0), so must sum4
+        let z = [-0.0; PAD];
+        let got = sum4([&z[..], &z[..], &z[..], &z[..]], 3);
+        assert_eq!(got[0].to_bits(), sum(&z[..3]).to_bits());
     }
 }

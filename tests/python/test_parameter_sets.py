@@ -59,13 +59,17 @@ def test_names_types_units(path, md):
 def test_section4_file_holds_the_fmu_defaults(md):
     """The paper's section-4 set is the FMU's default drive, but for the
     contact damping ramp: the set spells out the paper's 1 mm, the FMU's
-    default is the automatic ramp (0)."""
+    default is the automatic ramp (0); and for the SDE's damper: the paper's
+    acts along the gap only (belt.shearDampingFactor 0), the FMU's default
+    across it too (1)."""
     variables = {v.name: v for v in md.modelVariables}
     parameter_set = read_ssv(str(ROOT / "parameters/kubas2014-section4.ssv"))
     for p in parameter_set.parameters:
         start = variables[p.name].start
         if p.name == "contact.pMax":
             assert float(p.value) == 1e-3 and float(start) == 0.0
+        elif p.name == "belt.shearDampingFactor":
+            assert float(p.value) == 0.0 and float(start) == 1.0
         elif p.type == "Real":
             assert float(p.value) == float(start), p.name
         else:
