@@ -6,7 +6,11 @@ Natural frequencies against crank speed, engine orders 1-4 drawn; the discrete
 bodies' artificial modes (descriptions starting with "belt pitching") and the
 heavily damped modes (damping ratio above --zeta-max, default 0.1: they do not
 resonate, and in running states the analysis does not converge them) are left
-out and counted in a note.
+out and counted in a note. A mode in which a pulley's rotation carries at least a
+tenth of the energy beside the part that labels it (description "... with pulley j
+rotation (x %)") is drawn as that pulley's rotation. Speeds at which the drive did not settle onto a periodic
+running state (CSV column `periodic` false: its steady running is not periodic,
+docs/modes.md) are drawn apart, as small grey hollow markers, and named in the note.
 """
 
 import argparse
@@ -36,6 +40,10 @@ def main():
     left_out = 0
     damped = 0
     speeds = sorted({float(r["speed_rad_s"]) for r in rows})
+    # older CSVs have no such column: every speed counts as periodic there
+    not_periodic = sorted({float(r["speed_rad_s"]) for r in rows
+                           if r.get("periodic", "true") == "false"})
+    loose = ([], [])
     for r in rows:
         d = r["description"]
         if d.startswith("belt pitching"):
@@ -44,14 +52,23 @@ def main():
         if float(r["damping_ratio"]) > a.zeta_max:
             damped += 1
             continue
-        # group by kind (span k transverse, pulley j rotation, ...)
-        xs, ys = groups[d]
+        # group by kind (span k transverse, pulley j rotation, ...); a mode
+        # described "span k transverse with pulley j rotation (x %)" (a
+        # pulley carrying at least a tenth of its energy) joins pulley j's
+        # rotation: that is the mode a drive engineer tracks against the
+        # engine orders
+        if " with " in d:
+            d = d.split(" with ")[1].rsplit(" (", 1)[0]
+        xs, ys = loose if float(r["speed_rad_s"]) in not_periodic else groups[d]
         xs.append(float(r["speed_rad_s"]) * 60 / (2 * math.pi))
         ys.append(float(r["frequency_hz"]))
     fig, ax = plt.subplots(figsize=(9, 6))
     markers = "o^sDv<>pPX*h"
     for k, (d, (xs, ys)) in enumerate(sorted(groups.items())):
         ax.plot(xs, ys, markers[k % len(markers)], ms=5, label=d)
+    if loose[0]:
+        ax.plot(loose[0], loose[1], "o", ms=3, mfc="none", color="0.55",
+                label="no periodic running state (not converged)")
     rpm_max = max(speeds) * 60 / (2 * math.pi) if speeds else 1.0
     fmax = a.fmax or max(2 * 4 * rpm_max / 60, 100.0)
     for order in (1, 2, 3, 4):
@@ -65,7 +82,11 @@ def main():
     ax.set_title(a.title)
     ax.text(0.01, 0.99,
             f"{left_out} modes of the discrete bodies (belt pitching, contact, creep, "
-            f"rigid rotation on the polygon) and {damped} with damping ratio > {a.zeta_max:g} left out",
+            f"rigid rotation on the polygon) and {damped} with damping ratio > {a.zeta_max:g} left out"
+            + ("" if not not_periodic else
+               "\nno periodic running state at " + ", ".join(f"{s * 60 / (2 * math.pi):.0f}"
+                                                           for s in not_periodic)
+               + " rpm: the modes there (grey) are about a trajectory near it"),
             transform=ax.transAxes, va="top", fontsize=8)
     ax.legend(fontsize=7, ncol=2, loc="upper left", bbox_to_anchor=(0.0, 0.95))
     ax.grid(alpha=0.3)

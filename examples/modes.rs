@@ -2,7 +2,8 @@
 //! natural frequencies, damping ratios and mode descriptions about the
 //! mounted static state, or about the steady running state at each crank
 //! (pulley 1) speed (the Floquet analysis about its periodic orbit), written
-//! to `dist/modes.csv`.
+//! to `dist/modes.csv` (with the orbit's defect and whether it counts as
+//! periodic per speed).
 //!
 //! ```text
 //! cargo run --release --features modes --example modes -- [--ssv FILE] [--set NAME=VALUE ...]
@@ -133,7 +134,7 @@ fn run() -> Result<(), String> {
         let w = speed.unwrap_or(0.0);
         if let Some(orbit) = &modes.orbit {
             eprintln!(
-                "speed {w:.1} rad/s: periodic orbit, period {:.4e} s, defect {:.1e} (settling: {})",
+                "speed {w:.1} rad/s: running state analysed, period {:.4e} s, defect {:.1e} (settling: {})",
                 orbit.period,
                 orbit.defect(),
                 orbit
@@ -143,10 +144,12 @@ fn run() -> Result<(), String> {
                     .collect::<Vec<_>>()
                     .join(", ")
             );
-            if orbit.defect() > 2.0 * belt_drive::modes::floquet::ORBIT_TOL {
+            if !periodic(orbit) {
                 eprintln!(
-                    "speed {w:.1} rad/s: WARNING: the settling did not reach a periodic orbit \
-                     (defect {:.1e}); these modes are about a trajectory near it",
+                    "speed {w:.1} rad/s: WARNING: the drive did not settle onto a periodic running \
+                     state (defect {:.1e}): its steady running is not periodic (docs/modes.md, \
+                     \"When the running state is not periodic\"); these modes are about a trajectory \
+                     near it, marked periodic=false in the CSV and drawn apart in the Campbell diagram",
                     orbit.defect()
                 );
             }
@@ -173,15 +176,22 @@ fn run() -> Result<(), String> {
     let mut f = std::io::BufWriter::new(
         std::fs::File::create(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?,
     );
-    let mut text = String::from("speed_rad_s,mode,frequency_hz,damping_ratio,description\n");
+    let mut text = String::from(
+        "speed_rad_s,mode,frequency_hz,damping_ratio,description,orbit_defect,periodic\n",
+    );
     for (w, m) in &rows {
+        // at rest: no orbit (the analysis is about the static state)
+        let (defect, periodic) = match &m.orbit {
+            Some(o) => (format!("{:.2e}", o.defect()), periodic(o)),
+            None => (String::new(), true),
+        };
         for (k, mode) in m.modes.iter().enumerate() {
             text.push_str(&format!(
-                "{w},{},{:.4},{:.5},{}\n",
+                "{w},{},{:.4},{:.5},{},{defect},{periodic}\n",
                 k + 1,
                 mode.frequency_hz,
                 mode.damping_ratio,
-                mode.part.describe()
+                mode.describe()
             ));
         }
     }
@@ -189,6 +199,13 @@ fn run() -> Result<(), String> {
         .map_err(|e| format!("{}: {e}", a.out.display()))?;
     eprintln!("wrote {}", a.out.display());
     Ok(())
+}
+
+/// Whether the settling reached the periodic running state: the analysed
+/// period's defect within twice the settling's aim (`ORBIT_TOL`; the
+/// analysed period is integrated once more after the settling).
+fn periodic(orbit: &belt_drive::modes::Orbit) -> bool {
+    orbit.defect() <= 2.0 * belt_drive::modes::floquet::ORBIT_TOL
 }
 
 fn main() -> ExitCode {

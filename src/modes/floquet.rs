@@ -29,17 +29,21 @@
 //!    diverged (they are far from orthogonal, and the bodies' angles, spins
 //!    and creep jump at the wrap ends).
 //! 3. **Monodromy.** The variational equations Phi' = J(t) Phi over one P
-//!    from the periodic state: the analytic Jacobian at `substeps` + 1
-//!    instants, the theta method ([`FLOQUET_THETA`]) between them (sparse
-//!    LU of I - theta h J per substep), with the model's discrete creep
-//!    reset (a body that touches no pulley has z = 0, whatever its
-//!    perturbation: its row of Phi is zeroed), composed with S:
-//!    M = S Phi(P).
+//!    from the periodic state, in `substeps` steps of Alexander's two-stage
+//!    SDIRK method (second order, L-stable: [`SDIRK_GAMMA`]) with the
+//!    analytic Jacobian at each stage's instant (sparse LU of I - g h J per
+//!    stage), with the model's discrete creep reset (a body that touches
+//!    no pulley has z = 0, whatever its perturbation: its row of Phi is
+//!    zeroed), composed with S: M = S Phi(P). Second order, the damping
+//!    ratios converge with the substeps (a first-order theta method (0.6)
+//!    leaves them moving by a factor 2 between 64 and 192 substeps);
+//!    L-stable, the bodies' fast pitching modes (omega h >> 1) are damped
+//!    out within the period instead of keeping multipliers of modulus ~1.
 //! 4. **Modes.** The eigenvalues mu of M: the per-substep factor mu^(1/N),
 //!    its branch (whole turns within P) the one nearest the eigenvector's
 //!    own frequency (its velocities against its displacements), mapped
-//!    back through the theta method's amplification (1 + (1 - theta) z) /
-//!    (1 - theta z), z = h lambda, which removes its numerical damping and
+//!    back through the method's amplification R(z) = (1 + (1 - 2g) z) /
+//!    (1 - g z)^2, z = h lambda, which removes its numerical damping and
 //!    phase error (exactly for a constant Jacobian; to the variation of J
 //!    within one substep otherwise).
 
@@ -49,22 +53,14 @@ use crate::belt::drive::Window;
 use crate::belt::params::MAX_PULLEYS;
 use crate::belt::Drive;
 use faer::linalg::solvers::{Eigen, Solve};
-use faer::sparse::linalg::matmul::sparse_dense_matmul;
 use faer::sparse::{SparseColMat, Triplet};
-use faer::{c64, Accum, Mat, Par};
+use faer::{c64, Mat};
 use std::f64::consts::TAU;
 
-/// Implicitness of the theta method that integrates the variational
-/// equations: 0.6. At 1/2 (the trapezoidal rule) the bodies' fast
-/// artificial modes (pitching at ~1e5 rad/s, omega h >> 1) keep
-/// multipliers of modulus ~1 at arbitrary angles and mix into the
-/// eigenvectors of the slow modes; at 0.6 each step damps them by 2/3
-/// (1e-11 over 64 steps). The numerical damping this gives the slow modes
-/// is removed again when the multipliers are mapped back (module doc).
-pub const FLOQUET_THETA: f64 = 0.6;
-
-/// Substeps per body-passing period by default.
-pub const FLOQUET_SUBSTEPS: usize = 64;
+/// Substeps per body-passing period by default: 128. On the accessory
+/// drive at idle 64 substeps missed its unstable span mode (184 Hz,
+/// zeta -0.018 at 128 and 256 substeps and in the time domain; docs/modes.md).
+pub const FLOQUET_SUBSTEPS: usize = 128;
 
 /// The running state the analysis linearised about.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -159,36 +155,36 @@ fn monodromy(drive: &mut Drive, period: f64, substeps: usize) -> Result<Monodrom
     let dim = lin0.dim;
     let t0 = drive.time();
     let h = period / substeps as f64;
-    let theta = FLOQUET_THETA;
+    let g = SDIRK_GAMMA;
+    // LU of I - g h J at the drive's state now (sparse: the chain's
+    // Jacobian is banded, plus the pulleys' rows and columns)
+    let step_matrix = |drive: &Drive| {
+        let lin = adapter::linearise(drive);
+        let lu = sparse(&lin, -g * h, 1.0)?
+            .sp_lu()
+            .map_err(|e| format!("the variational step matrix is singular: {e:?}"))?;
+        Ok::<_, String>((lin, lu))
+    };
     let mut phi = Mat::<f64>::identity(dim, dim);
-    // (1 - theta) h J_k, sparse
-    let mut explicit = sparse(&lin0, (1.0 - theta) * h, 0.0)?;
     // trapezoidal means over the period: half weight at both ends
     let (mut tension, mut speed) = adapter::span_tensions_and_speed(drive);
     tension.iter_mut().for_each(|t| *t *= 0.5);
     speed *= 0.5;
+    let b = (1.0 - g) / g;
     for s in 1..=substeps {
+        // stage 1 at t + g h: (I - g h J1) Y1 = Phi
+        adapter::run_to(drive, t0 + (s as f64 - 1.0 + g) * h)?;
+        let (_, lu) = step_matrix(drive)?;
+        let mut y1 = phi.clone();
+        lu.solve_in_place(y1.as_mut());
+        // stage 2 at t + h: (I - g h J2) Y2 = Phi + (1 - g)/g (Y1 - Phi),
+        // and Phi(t + h) = Y2 (the method is stiffly accurate)
+        let mut next =
+            Mat::<f64>::from_fn(dim, dim, |r, c| (1.0 - b) * phi[(r, c)] + b * y1[(r, c)]);
         adapter::run_to(drive, t0 + s as f64 * h)?;
-        let (t, v) = adapter::span_tensions_and_speed(drive);
-        let w = if s == substeps { 0.5 } else { 1.0 };
-        tension.iter_mut().zip(&t).for_each(|(a, b)| *a += w * b);
-        speed += w * v;
-        let lin = adapter::linearise(drive);
-        // (I - theta h J_{k+1}) Phi_{k+1} = (I + (1 - theta) h J_k) Phi_k
-        let mut rhs = phi.clone();
-        sparse_dense_matmul(
-            rhs.as_mut(),
-            Accum::Add,
-            explicit.as_ref(),
-            phi.as_ref(),
-            1.0,
-            Par::Seq,
-        );
-        let lu = sparse(&lin, -theta * h, 1.0)?
-            .sp_lu()
-            .map_err(|e| format!("the variational step matrix is singular: {e:?}"))?;
-        lu.solve_in_place(rhs.as_mut());
-        if !rhs.as_ref().is_all_finite() {
+        let (lin, lu) = step_matrix(drive)?;
+        lu.solve_in_place(next.as_mut());
+        if !next.as_ref().is_all_finite() {
             return Err("the variational equations diverged".into());
         }
         // The model resets the creep of a body that touches no pulley
@@ -197,12 +193,15 @@ fn monodromy(drive: &mut Drive, period: f64, substeps: usize) -> Result<Monodrom
             if lin.contact_of(i).is_none() {
                 let r = lin.body(i, 6);
                 for c in 0..dim {
-                    rhs[(r, c)] = 0.0;
+                    next[(r, c)] = 0.0;
                 }
             }
         }
-        phi = rhs;
-        explicit = sparse(&lin, (1.0 - theta) * h, 0.0)?;
+        phi = next;
+        let (t, v) = adapter::span_tensions_and_speed(drive);
+        let w = if s == substeps { 0.5 } else { 1.0 };
+        tension.iter_mut().zip(&t).for_each(|(a, b)| *a += w * b);
+        speed += w * v;
     }
     let n = substeps as f64;
     tension.iter_mut().for_each(|t| *t /= n);
@@ -212,6 +211,34 @@ fn monodromy(drive: &mut Drive, period: f64, substeps: usize) -> Result<Monodrom
         span_tension: tension,
         belt_speed: speed / n,
     })
+}
+
+/// g = 1 - 1/sqrt(2) of Alexander's two-stage SDIRK method that integrates
+/// the variational equations (second order, L-stable, stiffly accurate:
+/// R(z) = (1 + (1 - 2g) z) / (1 - g z)^2 tends to 0 as z grows, so the
+/// bodies' fast pitching modes die out within the period).
+pub const SDIRK_GAMMA: f64 = 1.0 - std::f64::consts::FRAC_1_SQRT_2;
+
+/// z = h lambda with R(z) = m, R(z) = (1 + (1 - 2g) z) / (1 - g z)^2 the
+/// SDIRK2 amplification: the root that tends to 0 as m tends to 1.
+fn sdirk_inverse(m: c64) -> Option<c64> {
+    let g = SDIRK_GAMMA;
+    // m g^2 z^2 - (2 m g + 1 - 2 g) z + (m - 1) = 0
+    let a = m * (g * g);
+    let b = -(m * (2.0 * g) + (1.0 - 2.0 * g));
+    let c = m - 1.0;
+    let disc = (b * b - a * c * 4.0).sqrt();
+    // q = -(b + sign disc)/2 with the sign that avoids cancellation
+    let q = if (b.conj() * disc).re >= 0.0 {
+        (b + disc) * -0.5
+    } else {
+        (b - disc) * -0.5
+    };
+    if q.norm() == 0.0 {
+        return None;
+    }
+    // the small root c / q
+    Some(c / q)
 }
 
 /// Where each state goes under the one-body shift S: the body in slot i
@@ -572,9 +599,30 @@ pub fn settle(drive: &mut Drive, cycles: usize, k: usize) -> Result<Vec<f64>, St
 ///
 /// Errors: a drive at rest (no period), a failed run, a failed eigen-solve.
 pub fn floquet(run: &Drive, opts: &Options, substeps: usize) -> Result<Modes, String> {
+    let (drive, defects) = settled(run)?;
+    floquet_settled(&drive, defects, opts, substeps)
+}
+
+/// A copy of the running drive `run` at the analysis' tolerances, settled
+/// onto its periodic running state ([`settle`]), and the settling's
+/// defects: the state [`floquet`] linearises about (e.g. to follow the
+/// drive from there in the time domain).
+pub fn settled(run: &Drive) -> Result<(Drive, Vec<f64>), String> {
+    let mut drive = orbit_drive(run)?;
+    let defects = settle(&mut drive, SETTLE_CYCLES, SETTLE_PERIODS)?;
+    Ok((drive, defects))
+}
+
+/// The Floquet analysis (steps 3 and 4) from a drive already settled onto
+/// its orbit by [`settle`] (not advanced), `defects` its settling's.
+pub fn floquet_settled(
+    settled: &Drive,
+    mut defects: Vec<f64>,
+    opts: &Options,
+    substeps: usize,
+) -> Result<Modes, String> {
     let substeps = substeps.max(1);
-    let drive = &mut orbit_drive(run)?;
-    let mut defects = settle(drive, SETTLE_CYCLES, SETTLE_PERIODS)?;
+    let drive = &mut settled.clone();
     let lin = adapter::linearise(drive);
     let (guess, dir) = passing_period(&lin);
     if !guess.is_finite() || guess >= 1.0 || guess <= 0.0 {
@@ -623,7 +671,6 @@ fn floquet_modes(
     let (dim, n) = (lin0.dim, lin0.n);
     let w_zero = TAU * opts.zero_frequency_hz;
     let h = period / substeps as f64;
-    let theta = FLOQUET_THETA;
     let mut out = Modes {
         reduced_dim: dim,
         body_rate: 1.0 / period,
@@ -670,18 +717,17 @@ fn floquet_modes(
         }
         let f_own = (xv.im / xx) / TAU;
         let turns = ((f_own * period) - arg / TAU).round();
-        // per-substep factor, then back through the theta method's
-        // amplification g(z) = (1 + (1 - theta) z) / (1 - theta z)
+        // per-substep factor, then back through the SDIRK method's
+        // amplification R(z) (module doc)
         let per_step = c64::from_polar(
             r.powf(1.0 / substeps as f64),
             (arg + TAU * turns) / substeps as f64,
         );
-        let den = c64::new(1.0 - theta, 0.0) + per_step * theta;
-        if den.norm() < 1e-12 {
+        let Some(z) = sdirk_inverse(per_step) else {
             out.overdamped += 1;
             continue;
-        }
-        let lambda = (per_step - 1.0) / den / h;
+        };
+        let lambda = z / h;
         let mag = lambda.norm();
         if mag < w_zero {
             out.zero_modes += 1;
@@ -695,8 +741,9 @@ fn floquet_modes(
             out.above_limit += 1;
             continue;
         }
-        // Described without the bodies' spin: the theta method has damped
-        // the artificial pitching modes away (they end as overdamped), and
+        // Described without the bodies' spin: the L-stable method has
+        // damped the artificial pitching modes away (they end as
+        // overdamped or above the frequency limit), and
         // in a running belt a slow mode's spin perturbation is dominated by
         // the bodies at the wrap ends, whose spin jumps between 0 and v/r
         // there, so a small shift of the entry point carries a large spin
@@ -705,15 +752,48 @@ fn floquet_modes(
             vec[lin0.body(i, 5)] = c64::new(0.0, 0.0);
         }
         let (part, share) = classify(lin0, &regions, &vec, false);
+        let shares = super::shares(lin0, &regions, &vec, false);
         out.modes.push(Mode {
             frequency_hz: mag / TAU,
             damping_ratio: -lambda.re / mag,
             damped_hz: lambda.im.abs() / TAU,
             part,
             share,
+            shares,
         });
     }
     out.modes
         .sort_by(|a, b| a.frequency_hz.total_cmp(&b.frequency_hz));
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The amplification's inverse returns z for R(z), over the range of
+    /// h lambda the analysis meets (slow modes, |z| << 1, to the pitching
+    /// modes beyond the frequency limit), lightly damped and growing.
+    #[test]
+    fn sdirk_amplification_inverts() {
+        let g = SDIRK_GAMMA;
+        let r = |z: c64| {
+            (c64::new(1.0, 0.0) + z * (1.0 - 2.0 * g))
+                / ((c64::new(1.0, 0.0) - z * g) * (c64::new(1.0, 0.0) - z * g))
+        };
+        for &(re, im) in &[
+            (-1e-5, 2e-3),
+            (1e-4, 0.05),
+            (-0.02, 0.4),
+            (-0.1, 1.0),
+            (0.0, 1.5),
+        ] {
+            let z = c64::new(re, im);
+            let back = sdirk_inverse(r(z)).expect("a root");
+            assert!((back - z).norm() < 1e-9 * (1.0 + z.norm()), "{z} -> {back}");
+        }
+        // second order: R(z) = e^z + O(z^3)
+        let z = c64::new(-1e-3, 1e-2);
+        assert!((r(z) - z.exp()).norm() < 1e-6);
+    }
 }

@@ -26,7 +26,7 @@ pub mod adapter;
 pub mod floquet;
 pub mod params;
 
-pub use floquet::{floquet, Orbit, FLOQUET_SUBSTEPS, FLOQUET_THETA};
+pub use floquet::{floquet, Orbit, FLOQUET_SUBSTEPS, SDIRK_GAMMA};
 
 use adapter::Linearisation;
 use faer::linalg::solvers::Eigen;
@@ -91,6 +91,21 @@ impl Part {
         )
     }
 
+    /// The kind of motion the part takes part in: the labels name a mode
+    /// after the kind with the largest share of its energy (docs/modes.md,
+    /// "Descriptions").
+    pub fn family(self) -> Family {
+        match self {
+            Self::PulleyRotation(_) | Self::SpanLongitudinal(_) => Family::Rotation,
+            Self::SpanTransverse(_) => Family::Transverse,
+            Self::Arm(_) => Family::Arm,
+            Self::BeltPitching
+            | Self::RigidRotation
+            | Self::WrapRadial(_)
+            | Self::WrapTangential(_) => Family::Artefact,
+        }
+    }
+
     /// The part in words, for tables and plots.
     pub fn describe(self) -> String {
         match self {
@@ -106,6 +121,22 @@ impl Part {
     }
 }
 
+/// Kinds of motion of a drive, by which coordinates move.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Family {
+    /// The pulleys' rotation and the belt's motion along its path that goes
+    /// with it (the wrapped belt moving with its pulley, the spans
+    /// stretching): the rotational modes of a drive.
+    Rotation,
+    /// The spans' motion across the belt path.
+    Transverse,
+    /// A tensioner arm's swing.
+    Arm,
+    /// The discrete bodies' own motions (pitching, bouncing on the contact,
+    /// on the creep spring).
+    Artefact,
+}
+
 /// One mode: a complex pair lambda = -zeta w_n +- i w_n sqrt(1 - zeta^2).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Mode {
@@ -119,6 +150,45 @@ pub struct Mode {
     pub part: Part,
     /// Share of the mode's kinetic energy in `part`.
     pub share: f64,
+    /// Share of the mode's kinetic energy in each part of the drive
+    /// ([`energies`]), largest first.
+    pub shares: Vec<(Part, f64)>,
+}
+
+/// Share of a mode's kinetic energy from which a pulley's rotation or an
+/// arm's swing is named beside the part that labels the mode: one
+/// coordinate carrying a tenth of the energy of a mode spread over the
+/// belt is what a drive engineer calls that pulley's (or arm's) mode (in
+/// the accessory drive's span modes the pulleys carry under 3 %).
+pub const COMPANION_SHARE: f64 = 0.1;
+
+impl Mode {
+    /// The pulley rotation or arm swing with the largest share of the
+    /// energy, if it carries at least [`COMPANION_SHARE`] and is not the
+    /// label itself.
+    pub fn companion(&self) -> Option<(Part, f64)> {
+        self.shares
+            .iter()
+            .copied()
+            .find(|(p, _)| matches!(p, Part::PulleyRotation(_) | Part::Arm(_)))
+            .filter(|&(p, e)| p != self.part && e >= COMPANION_SHARE)
+    }
+
+    /// The description written to the CSV: the label, and a pulley
+    /// rotation or arm swing carrying at least [`COMPANION_SHARE`] of the
+    /// energy beside it, e.g. `span 4 transverse with pulley 3 rotation
+    /// (16 %)`.
+    pub fn describe(&self) -> String {
+        match self.companion() {
+            Some((p, e)) => format!(
+                "{} with {} ({:.0} %)",
+                self.part.describe(),
+                p.describe(),
+                100.0 * e
+            ),
+            None => self.part.describe(),
+        }
+    }
 }
 
 /// Result of one analysis.
@@ -395,6 +465,7 @@ pub fn analyse(lin: &Linearisation, opts: &Options) -> Result<Modes, String> {
             damped_hz: lam.im / TAU,
             part,
             share,
+            shares: shares(lin, &regions, &vec, opts.transport),
         });
     }
     out.modes
@@ -402,16 +473,19 @@ pub fn analyse(lin: &Linearisation, opts: &Options) -> Result<Modes, String> {
     Ok(out)
 }
 
-/// What moves most in the mode with (complex) eigenvector `v`: kinetic
-/// energy of every body's motion along and across the belt and its spin,
-/// and of every free pulley's rotation, summed by region. `local`: the
-/// body velocities are already in body frames.
-pub fn classify(
+/// Kinetic energy of the mode with (complex) eigenvector `v` by part of
+/// the drive: every body's motion along and across the belt and its spin,
+/// summed by region, and every free pulley's rotation (with the wrapped
+/// belt moving with its surface), decoupler rotor and tensioner arm.
+/// `local`: the body velocities are already in body frames. Parts with no
+/// energy are left out; the order is fixed (spans, wraps, pulleys, arms,
+/// pitching).
+pub fn energies(
     lin: &Linearisation,
     regions: &[Region],
     v: &[faer::c64],
     local: bool,
-) -> (Part, f64) {
+) -> Vec<(Part, f64)> {
     let np = lin.pulleys.len();
     // [span transverse, span longitudinal] per span, [radial, tangential]
     // per wrap, rotation per pulley, pitching.
@@ -464,27 +538,77 @@ pub fn classify(
             arm[j] += inertia * v[o + 1].norm_sqr();
         }
     }
-    let mut best = (Part::BeltPitching, pitching);
-    let mut total = pitching;
-    let mut consider = |part: Part, e: f64| {
-        total += e;
+    let mut out = Vec::new();
+    for (k, s) in span.iter().enumerate() {
+        out.push((Part::SpanTransverse(k + 1), s[0]));
+        out.push((Part::SpanLongitudinal(k + 1), s[1]));
+    }
+    for (j, w) in wrap.iter().enumerate() {
+        out.push((Part::WrapRadial(j + 1), w[0]));
+        out.push((Part::WrapTangential(j + 1), w[1]));
+    }
+    for (j, &e) in pulley.iter().enumerate() {
+        out.push((Part::PulleyRotation(j + 1), e));
+    }
+    for (j, &e) in arm.iter().enumerate() {
+        out.push((Part::Arm(j + 1), e));
+    }
+    out.push((Part::BeltPitching, pitching));
+    out.retain(|x| x.1 > 0.0);
+    out
+}
+
+/// [`energies`] as shares of the total, largest first.
+pub fn shares(
+    lin: &Linearisation,
+    regions: &[Region],
+    v: &[faer::c64],
+    local: bool,
+) -> Vec<(Part, f64)> {
+    let mut parts = energies(lin, regions, v, local);
+    let total: f64 = parts.iter().map(|x| x.1).sum();
+    parts.iter_mut().for_each(|x| x.1 /= total);
+    parts.sort_by(|a, b| b.1.total_cmp(&a.1));
+    parts
+}
+
+/// What moves most in the mode with (complex) eigenvector `v`: the part
+/// with the largest share of its kinetic energy ([`energies`]), and that
+/// share. `local`: the body velocities are already in body frames.
+pub fn classify(
+    lin: &Linearisation,
+    regions: &[Region],
+    v: &[faer::c64],
+    local: bool,
+) -> (Part, f64) {
+    let parts = energies(lin, regions, v, local);
+    let total: f64 = parts.iter().map(|x| x.1).sum();
+    let families = [
+        Family::Rotation,
+        Family::Transverse,
+        Family::Arm,
+        Family::Artefact,
+    ];
+    let family_energy = |f: Family| -> f64 {
+        parts
+            .iter()
+            .filter(|x| x.0.family() == f)
+            .map(|x| x.1)
+            .sum()
+    };
+    let mut family = Family::Artefact;
+    let mut most = 0.0;
+    for f in families {
+        let e = family_energy(f);
+        if e > most {
+            (family, most) = (f, e);
+        }
+    }
+    let mut best = (Part::BeltPitching, 0.0);
+    for &(part, e) in parts.iter().filter(|x| x.0.family() == family) {
         if e > best.1 {
             best = (part, e);
         }
-    };
-    for (k, s) in span.iter().enumerate() {
-        consider(Part::SpanTransverse(k + 1), s[0]);
-        consider(Part::SpanLongitudinal(k + 1), s[1]);
-    }
-    for (j, w) in wrap.iter().enumerate() {
-        consider(Part::WrapRadial(j + 1), w[0]);
-        consider(Part::WrapTangential(j + 1), w[1]);
-    }
-    for (j, &e) in pulley.iter().enumerate() {
-        consider(Part::PulleyRotation(j + 1), e);
-    }
-    for (j, &e) in arm.iter().enumerate() {
-        consider(Part::Arm(j + 1), e);
     }
     let share = if total > 0.0 { best.1 / total } else { 0.0 };
     // All free pulleys' surfaces moving together, within a factor 2 and in
