@@ -982,6 +982,25 @@ fn wrap_bodies(lin: &adapter::Linearisation) -> Vec<usize> {
         .collect()
 }
 
+/// A spin `x` sampled every `dt` from `dt` on, after a spin of 1 given at
+/// 0, against the free response of the oscillator (`wn`, `zeta`): the
+/// largest deviation over the first 80 samples, the frequency of its sign
+/// changes [Hz], the damped angular frequency [rad/s] and the closed form's
+/// value at the last sample.
+fn against_free_response(x: &[f64], wn: f64, zeta: f64, dt: f64) -> (f64, f64, f64, f64) {
+    let sigma = zeta * wn;
+    let wd = wn * (1.0 - zeta * zeta).sqrt();
+    let exact = |t: f64| (-sigma * t).exp() * ((wd * t).cos() - sigma / wd * (wd * t).sin());
+    let dev = x[..80]
+        .iter()
+        .enumerate()
+        .map(|(k, v)| (v - exact((k + 1) as f64 * dt)).abs())
+        .fold(0.0, f64::max);
+    let c = sign_changes(x, dt);
+    let f = (c.len() - 1) as f64 / (2.0 * (c[c.len() - 1] - c[0]));
+    (dev, f, wd, exact(x.len() as f64 * dt))
+}
+
 /// The drive at rest with a spin of 1 rad/s given to the bodies `kicked`
 /// picks: their mean spin, but `trim` bodies at each end, sampled every `dt`
 /// for 200 samples (both methods at relTol 1e-4 resolve it). [RKF45, stiff].
@@ -1142,19 +1161,10 @@ fn wrap_pitching_is_the_closed_form_with_both_integrators() {
     for (factor, points) in [(0.0, 1), (0.0, 3), (1.0, 1), (1.0, 3)] {
         let p = sixty_body_at_rest_shear(points, factor);
         let (wn, zeta) = wrap_pitching_closed_form(&p, l);
-        let sigma = zeta * wn;
-        let wd = wn * (1.0 - zeta * zeta).sqrt();
-        let exact = |t: f64| (-sigma * t).exp() * ((wd * t).cos() - sigma / wd * (wd * t).sin());
         let runs = spin_kick_at_rest(&p, wrap_bodies, 2, dt);
         for (name, x) in ["RKF45", "stiff"].iter().zip(&runs) {
             // the damped response over its first 40 us (e^-7.8 of the kick left)
-            let dev = x[..80]
-                .iter()
-                .enumerate()
-                .map(|(k, v)| (v - exact((k + 1) as f64 * dt)).abs())
-                .fold(0.0, f64::max);
-            let c = sign_changes(x, dt);
-            let f = (c.len() - 1) as f64 / (2.0 * (c[c.len() - 1] - c[0]));
+            let (dev, f, wd, _) = against_free_response(x, wn, zeta, dt);
             eprintln!(
                 "shear damping {factor}, {points} points, {name}: closed form omega_n {wn:.4e} \
                  rad/s, zeta {zeta:.3}; largest deviation {dev:.4} rad/s, sign changes at \
@@ -1261,18 +1271,9 @@ fn span_pitching_is_damped_by_the_sde_with_both_integrators() {
     for factor in [1.0, 0.0] {
         let p = sixty_body_at_rest_shear(1, factor);
         let (wn, zeta) = span_pitching_closed_form(&p, l);
-        let sigma = zeta * wn;
-        let wd = wn * (1.0 - zeta * zeta).sqrt();
-        let exact = |t: f64| (-sigma * t).exp() * ((wd * t).cos() - sigma / wd * (wd * t).sin());
         let runs = spin_kick_at_rest(&p, span_bodies, 3, dt);
         for (name, x) in ["RKF45", "stiff"].iter().zip(&runs) {
-            let dev = x[..80]
-                .iter()
-                .enumerate()
-                .map(|(k, v)| (v - exact((k + 1) as f64 * dt)).abs())
-                .fold(0.0, f64::max);
-            let c = sign_changes(x, dt);
-            let f = (c.len() - 1) as f64 / (2.0 * (c[c.len() - 1] - c[0]));
+            let (dev, f, wd, last) = against_free_response(x, wn, zeta, dt);
             eprintln!(
                 "span, shear damping {factor}, {name}: closed form omega_n {wn:.4e} rad/s, zeta \
                  {zeta:.3}; largest deviation over 40 us {dev:.4} rad/s, sign changes at {:.2} kHz \
@@ -1280,7 +1281,7 @@ fn span_pitching_is_damped_by_the_sde_with_both_integrators() {
                 f / 1e3,
                 wd / std::f64::consts::TAU / 1e3,
                 x[199],
-                exact(200.0 * dt)
+                last
             );
             if factor == 0.0 {
                 assert!(
