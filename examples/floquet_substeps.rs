@@ -19,24 +19,9 @@ use belt_drive::belt::params::Method;
 use belt_drive::belt::DriveParams;
 use belt_drive::modes::{adapter, floquet, params, Options};
 
-fn heavy(n: usize, method: Method) -> DriveParams {
-    let mut p = DriveParams::kubas_section4();
-    p.pulleys[0].radius = 0.05;
-    p.pulleys[0].torque_ramp = 0.0;
-    p.pulleys[0].speed_driven = true;
-    p.pulleys[0].omega_ramp = -140.0;
-    p.pulleys[0].ramp_time = 0.1;
-    p.pulleys[1].radius = 0.05;
-    p.pulleys[1].x = 0.4;
-    p.pulleys[1].inertia = 1e-3;
-    p.pulleys[1].load_damping = 0.0;
-    p.belt.n_bodies = n;
-    p.belt.preload = 100.0;
-    p.belt.mass_per_length = 0.5;
-    p.solver.method = method;
-    p.probe_body = 0;
-    p
-}
+#[path = "common/heavy_running.rs"]
+mod heavy_running;
+use heavy_running::heavy_running as heavy;
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();

@@ -6,10 +6,13 @@
 #[cfg(unix)]
 mod abi;
 mod common;
+#[path = "../examples/common/heavy_running.rs"]
+mod heavy;
 
 use belt_drive::belt::params::Method;
 use belt_drive::belt::{Drive, DriveParams};
 use belt_drive::modes::{adapter, analyse, floquet, Mode, Modes, Options, Orbit, Part};
+use heavy::heavy_running;
 
 /// Two free (torque-driven, unloaded) pulleys of radii 40 and 25 mm, 0.35 m
 /// apart; a light belt (0.2 kg/m, EA 1.5e5 N) under 300 N; `n` bodies.
@@ -185,27 +188,6 @@ fn rotational_mode_damping_is_the_belts_kelvin_voigt_law() {
         100.0 * err
     );
     assert!(err.abs() < 0.1, "{err:+.4}");
-}
-
-/// A heavy belt (0.5 kg/m) under 100 N on two 50 mm pulleys 0.4 m apart,
-/// pulley 1 speed-driven, pulley 2 free and unloaded; `n` bodies.
-fn heavy_running(n: usize, method: Method) -> DriveParams {
-    let mut p = DriveParams::kubas_section4();
-    p.pulleys[0].radius = 0.05;
-    p.pulleys[0].torque_ramp = 0.0;
-    p.pulleys[0].speed_driven = true;
-    p.pulleys[0].omega_ramp = -140.0;
-    p.pulleys[0].ramp_time = 0.1;
-    p.pulleys[1].radius = 0.05;
-    p.pulleys[1].x = 0.4;
-    p.pulleys[1].inertia = 1e-3;
-    p.pulleys[1].load_damping = 0.0;
-    p.belt.n_bodies = n;
-    p.belt.preload = 100.0;
-    p.belt.mass_per_length = 0.5;
-    p.solver.method = method;
-    p.probe_body = 0;
-    p
 }
 
 /// A drive run up and analysed in steady running ([`floquet_after_run_up`]).
