@@ -11,7 +11,11 @@
 
 use belt_drive::belt::params::Method;
 use belt_drive::belt::system::{BeltSystem, Recorder, Workspace};
-use belt_drive::belt::{Drive, DriveParams};
+use belt_drive::belt::Drive;
+
+#[path = "common/sixty_body.rs"]
+mod sixty_body;
+use sixty_body::sixty_body_drive;
 
 /// The body-pulley pairs in contact (normal force > 0).
 #[derive(Default)]
@@ -49,17 +53,9 @@ fn main() {
         Some("1") => Method::Rkf45,
         _ => Method::Rosenbrock,
     };
-    let mut p = DriveParams::default();
+    let mut p = sixty_body_drive();
     p.belt.n_bodies = n;
-    p.belt.preload = 300.0;
     p.probe_body = 0;
-    p.pulleys[0].radius = 0.05;
-    p.pulleys[1].radius = 0.05;
-    p.pulleys[1].x = 0.25;
-    p.pulleys[0].torque_ramp = -2.0;
-    p.pulleys[0].ramp_time = 0.05;
-    p.pulleys[1].load_damping = 0.05;
-    p.pulleys[1].ramp_time = 0.05;
     p.solver.method = method;
     p.solver.rel_tol = 1e-4;
     let (t0, t1) = (0.3, 0.5);

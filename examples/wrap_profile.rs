@@ -61,22 +61,9 @@ struct WrapFrame {
     angle: f64,
 }
 
-/// The 60-body drive of `tests/defaults.rs`: two 50 mm pulleys 0.25 m
-/// apart, 300 N preload, pulley 1 driven by 2 N m (reached over 0.05 s),
-/// pulley 2 loaded by 0.05 N m s/rad.
-fn sixty_body_drive() -> DriveParams {
-    let mut p = DriveParams::default();
-    p.belt.n_bodies = 60;
-    p.belt.preload = 300.0;
-    p.pulleys[0].radius = 0.05;
-    p.pulleys[1].radius = 0.05;
-    p.pulleys[1].x = 0.25;
-    p.pulleys[0].torque_ramp = -2.0;
-    p.pulleys[0].ramp_time = 0.05;
-    p.pulleys[1].load_damping = 0.05;
-    p.pulleys[1].ramp_time = 0.05;
-    p
-}
+#[path = "common/sixty_body.rs"]
+mod sixty_body;
+use sixty_body::sixty_body_drive;
 
 /// The heavy-belt drive of `tests/python/test_mean_forces.py`: a 60 mm
 /// crank speed-driven to 150 rad/s over 0.1 s, a 27 mm pulley 0.35 m away
