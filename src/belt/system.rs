@@ -517,6 +517,7 @@ impl BeltSystem {
         let n_dec_all = params.pulleys.iter().filter(|p| p.decoupler).count();
         let mut pulleys = [PulleyConst::NONE; MAX_PULLEYS];
         for (j, (pc, p)) in pulleys.iter_mut().zip(&params.pulleys).enumerate() {
+            let radii = contact::point_radii(p.radius, l, params.contact.points);
             *pc = PulleyConst {
                 cx: p.x,
                 cy: p.y,
@@ -534,11 +535,8 @@ impl BeltSystem {
                     l,
                     params.contact.points,
                 ),
-                radii: contact::point_radii(p.radius, l, params.contact.points),
-                reach: contact::point_radii(p.radius, l, params.contact.points)
-                    .iter()
-                    .fold(0.0, |a: f64, &b| a.max(b))
-                    + 0.5 * l,
+                radii,
+                reach: radii.iter().fold(0.0, |a: f64, &b| a.max(b)) + 0.5 * l,
                 inv_inertia: 1.0 / p.inertia,
                 inertia: p.inertia,
                 // the groove's wedge effect (elements::groove)
