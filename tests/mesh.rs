@@ -1,8 +1,9 @@
 //! Slip against the mesh (docs/validation.md, "Slip against the mesh";
 //! docs/model.md, "Chordal effect"): a chain of straight bodies on pulleys
 //! of different radius runs at the radius ratio, and the slip of coarse
-//! meshes lies within 10 % of the mesh-converged value pinned from the
-//! committed mesh study (`cargo run --profile ci --example mesh_study`).
+//! meshes lies within 10 % of the mesh-converged value
+//! (examples/common/mesh_limits.rs, from the two contacts' fine-mesh runs;
+//! the meshes are those of `cargo run --profile ci --example mesh_study`).
 //!
 //! Run with `cargo test --profile ci --test mesh` (about two and a half
 //! minutes on one core: the stiff method at relTol 1e-5, as in the study).
@@ -13,18 +14,9 @@ use belt_drive::belt::{Drive, DriveParams};
 #[path = "../examples/common/two_to_one.rs"]
 mod drives;
 
-/// The paper's 5PK drive's mesh-converged slip (speed loss), 0.383 %: the
-/// centre contact and the contact along the body converge to it from either
-/// side at first order in the body length (0.3839 / 0.3809 % at 2000 bodies;
-/// first-order extrapolations from 1200 and 2000 bodies 0.3831 / 0.3823 %,
-/// docs/validation.md, "The two contacts' limits"), good to about 0.001
-/// points, i.e. 0.3 % of the value.
-const CONVERGED_5PK: f64 = 0.383e-2;
-
-/// The loaded 2:1 drive's mesh-converged slip, 0.243 % (both contacts at
-/// 960 and 1920 bodies, first-order extrapolations 0.2434 / 0.2433 %, the
-/// same section of docs/validation.md).
-const CONVERGED_2TO1: f64 = 0.243e-2;
+#[path = "../examples/common/mesh_limits.rs"]
+mod mesh_limits;
+use mesh_limits::{CONVERGED_2TO1, CONVERGED_5PK};
 
 /// The 2:1 drive of the mesh study: 40 mm pulley speed-driven at -40 rad/s
 /// (0.1 s ramp), 80 mm pulley 0.3 m away loaded by 1.5 N m s/rad (30 N m at
