@@ -84,6 +84,17 @@ fn loss_and_error(loss: &[f64], reference: &[f64]) -> (String, String) {
 /// The reference of a drive's errors: its pinned converged value, else the
 /// Richardson value of `rows`; printed with where it comes from.
 fn reference(s: &Study, rows: &[(usize, Vec<f64>)]) -> Option<Vec<f64>> {
+    if let (Some(r), Some(_)) = (richardson(rows), &s.converged) {
+        // beside a pinned value, for comparison: how far the n^-2 value is off
+        let (n1, n2) = (rows[rows.len() - 2].0, rows[rows.len() - 1].0);
+        println!(
+            "Richardson (n^-2) from {n1} and {n2} bodies: {} %",
+            r.iter()
+                .map(|x| format!("{x:.4}"))
+                .collect::<Vec<_>>()
+                .join(" / ")
+        );
+    }
     let (r, from) = match &s.converged {
         Some(c) => (c.clone(), "the mesh-converged slip".to_string()),
         None => {
