@@ -6,13 +6,12 @@
 //! Every run is the stiff method (`solver.method` = 2) at relTol 1e-5 unless
 //! told otherwise; the speeds are means from the pulley angles over the
 //! averaging window. The error column is the slip's relative error against
-//! the mesh-converged slip: the 5PK and 2:1 drives' converged values, which
-//! both contacts share (examples/common/mesh_limits.rs, the values
-//! tests/mesh.rs checks against), and for the accessory drive, which has no
-//! pinned value, the n^-2 Richardson extrapolation of the run's two finest
-//! meshes (printed; a reference, not a proven limit: on the other two drives
-//! that extrapolation misses the limit by up to 1 %, the landing converging
-//! at first order).
+//! the drive's reference in examples/common/mesh_limits.rs: the 5PK and 2:1
+//! drives' mesh-converged slips, which both contacts share (the values
+//! tests/mesh.rs checks against), and for the accessory drive the centre
+//! contact's n^-2 Richardson value from 480 and 960 bodies (a reference, not
+//! an established limit). Beside it the run prints the n^-2 Richardson
+//! value of its own two finest meshes.
 //!
 //! `cargo run --profile ci --example mesh_study -- [drive 5pk|2to1|accessory|all]
 //! [method 1|2] [relTol] [bodies,...|-] [contact.points]` (the drive's own
@@ -21,8 +20,7 @@
 //! `cargo run --profile ci --example mesh_study -- errors DRIVE ROW...` prints
 //! the same table's error column for slips measured before, each ROW
 //! `bodies=loss` in % (`loss/loss/loss` for the accessory drive's three
-//! pulleys; a `ref=` row sets the accessory drive's reference instead of the
-//! Richardson value of the two finest rows).
+//! pulleys).
 
 use belt_drive::belt::params::Method;
 use belt_drive::belt::{Drive, DriveParams};
@@ -35,7 +33,7 @@ mod ssv;
 use ssv::from_ssv;
 #[path = "common/mesh_limits.rs"]
 mod mesh_limits;
-use mesh_limits::{CONVERGED_2TO1, CONVERGED_5PK};
+use mesh_limits::{CONVERGED_2TO1, CONVERGED_5PK, REFERENCE_ACCESSORY};
 
 /// A drive of the study: its parameters, the averaging window and the meshes.
 struct Study {
@@ -45,10 +43,9 @@ struct Study {
     meshes: Vec<usize>,
     /// Pulleys whose speed loss against pulley 1 is reported.
     report: Vec<usize>,
-    /// The mesh-converged speed loss of each reported pulley [%], when the
-    /// drive has one pinned; otherwise the errors are taken against the
-    /// Richardson value of the two finest meshes.
-    converged: Option<Vec<f64>>,
+    /// The speed loss of each reported pulley the errors are taken against
+    /// [%], and what it is.
+    reference: (Vec<f64>, &'static str),
 }
 
 /// The n^-2 Richardson extrapolation of the two finest meshes' speed losses
@@ -81,36 +78,25 @@ fn loss_and_error(loss: &[f64], reference: &[f64]) -> (String, String) {
     )
 }
 
-/// The reference of a drive's errors: its pinned converged value, else the
-/// Richardson value of `rows`; printed with where it comes from.
-fn reference(s: &Study, rows: &[(usize, Vec<f64>)]) -> Option<Vec<f64>> {
-    if let (Some(r), Some(_)) = (richardson(rows), &s.converged) {
-        // beside a pinned value, for comparison: how far the n^-2 value is off
-        let (n1, n2) = (rows[rows.len() - 2].0, rows[rows.len() - 1].0);
-        println!(
-            "Richardson (n^-2) from {n1} and {n2} bodies: {} %",
-            r.iter()
-                .map(|x| format!("{x:.4}"))
-                .collect::<Vec<_>>()
-                .join(" / ")
-        );
-    }
-    let (r, from) = match &s.converged {
-        Some(c) => (c.clone(), "the mesh-converged slip".to_string()),
-        None => {
-            let r = richardson(rows)?;
-            let (n1, n2) = (rows[rows.len() - 2].0, rows[rows.len() - 1].0);
-            (r, format!("Richardson (n^-2) from {n1} and {n2} bodies"))
-        }
-    };
-    println!(
-        "errors against {from}: {} %",
-        r.iter()
+/// The reference of a drive's errors, printed with what it is, and beside
+/// it the n^-2 Richardson value of the two finest of `rows`.
+fn reference(s: &Study, rows: &[(usize, Vec<f64>)]) -> Vec<f64> {
+    let join = |v: &[f64]| {
+        v.iter()
             .map(|x| format!("{x:.4}"))
             .collect::<Vec<_>>()
             .join(" / ")
-    );
-    Some(r)
+    };
+    if let Some(r) = richardson(rows) {
+        let (n1, n2) = (rows[rows.len() - 2].0, rows[rows.len() - 1].0);
+        println!(
+            "Richardson (n^-2) from {n1} and {n2} bodies: {} %",
+            join(&r)
+        );
+    }
+    let (r, what) = &s.reference;
+    println!("errors against {what}: {} %", join(r));
+    r.clone()
 }
 
 /// Mean speeds over the window and mean span tensions.
@@ -147,7 +133,7 @@ fn studies() -> Vec<Study> {
             window: (0.6, 1.2),
             meshes: vec![100, 150, 225, 300, 600],
             report: vec![1],
-            converged: Some(vec![100.0 * CONVERGED_5PK]),
+            reference: (vec![100.0 * CONVERGED_5PK], "the mesh-converged slip"),
         },
         Study {
             name: "2to1",
@@ -155,7 +141,7 @@ fn studies() -> Vec<Study> {
             window: (0.4, 1.0),
             meshes: vec![80, 120, 180, 240, 480],
             report: vec![1],
-            converged: Some(vec![100.0 * CONVERGED_2TO1]),
+            reference: (vec![100.0 * CONVERGED_2TO1], "the mesh-converged slip"),
         },
         Study {
             name: "accessory",
@@ -163,7 +149,10 @@ fn studies() -> Vec<Study> {
             window: (0.8, 1.4),
             meshes: vec![160, 240, 320, 480, 960],
             report: vec![1, 2, 3],
-            converged: None,
+            reference: (
+                REFERENCE_ACCESSORY.iter().map(|x| 100.0 * x).collect(),
+                "the reference slips (the centre contact's Richardson value from 480 and 960 bodies)",
+            ),
         },
     ]
 }
@@ -188,29 +177,17 @@ fn errors(a: &[String]) {
         .find(|s| Some(s.name) == a.first().map(String::as_str))
         .expect("drive: 5pk, 2to1 or accessory");
     let parse = |v: &str| -> Vec<f64> { v.split('/').map(|x| x.parse().unwrap()).collect() };
-    let mut given = None;
-    let mut rows = Vec::new();
-    for row in &a[1..] {
-        let (key, value) = row.split_once('=').expect("ROW is bodies=loss");
-        match key {
-            "ref" => given = Some(parse(value)),
-            n => rows.push((n.parse::<usize>().unwrap(), parse(value), value)),
-        }
-    }
+    let rows: Vec<(usize, Vec<f64>, &str)> = a[1..]
+        .iter()
+        .map(|row| {
+            let (n, value) = row.split_once('=').expect("ROW is bodies=loss");
+            (n.parse().expect("bodies"), parse(value), value)
+        })
+        .collect();
     println!("## {} (speed losses given)", s.name);
-    let reference = match (given, &s.converged) {
-        (Some(r), None) => {
-            println!("errors against the given reference");
-            r
-        }
-        (Some(_), Some(_)) => panic!("{} has its converged value pinned", s.name),
-        (None, _) => {
-            let mut sorted: Vec<(usize, Vec<f64>)> =
-                rows.iter().map(|r| (r.0, r.1.clone())).collect();
-            sorted.sort_by_key(|r| r.0);
-            reference(&s, &sorted).expect("two rows or ref=")
-        }
-    };
+    let mut sorted: Vec<(usize, Vec<f64>)> = rows.iter().map(|r| (r.0, r.1.clone())).collect();
+    sorted.sort_by_key(|r| r.0);
+    let reference = reference(&s, &sorted);
     println!("| bodies | l / r_min | speed loss [%] | error |");
     println!("|---|---|---|---|");
     // The losses as given (their digits), the errors computed as for a run.
@@ -294,9 +271,7 @@ fn main() {
             }
         }
         let losses: Vec<(usize, Vec<f64>)> = rows.iter().map(|r| (r.0, r.1.clone())).collect();
-        let Some(reference) = reference(s, &losses) else {
-            continue;
-        };
+        let reference = reference(s, &losses);
         println!(
             "| bodies | l / r_min | speed loss vs pulley 1 [%] | error | span tensions [N] | steps | wall [s] |"
         );
