@@ -28,7 +28,7 @@
 //! `--drive 5pk|s3` (one of the two drives) and `--atol 1e-6` (the absTol of
 //! the runs benchmarked instead of relTol/100; 1e-6 is the FMU's default).
 //!
-//! `cargo bench --bench belt -- count-rhs <n> <reps> [baseline|avx2|avx512|dispatch] [contact.points]`
+//! `cargo bench --bench belt -- count-rhs <n> <reps> [baseline|avx2|avx512|dispatch] [contact.points] [belt.shearDampingFactor]`
 //! evaluates the right-hand side `reps` times (as dispatched, or that build) at a running state of `n` bodies inside
 //! `rhs_loop` (no timing) for instruction counts:
 //! `valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*rhs_loop*' <bench binary> count-rhs 150 2000`.
@@ -64,7 +64,7 @@ impl Opts {
 /// A drive of `n` bodies at a running state (contacts, creep): 60 bodies
 /// cannot resolve the 5PK drive's 27 mm pulleys, so below 100 bodies the
 /// section-3 drive (its own mesh) is used.
-fn running_drive(n: usize, points: usize) -> Drive {
+fn running_drive(n: usize, points: usize, shear: Option<f64>) -> Drive {
     let mut p = if n < 100 {
         DriveParams::kubas_section3()
     } else {
@@ -72,6 +72,9 @@ fn running_drive(n: usize, points: usize) -> Drive {
     };
     p.belt.n_bodies = n;
     p.contact.points = points;
+    if let Some(f) = shear {
+        p.belt.shear_damping_factor = f;
+    }
     p.probe_body = 0;
     let mut d = Drive::new(&p, 0.0).expect("valid drive");
     d.advance(0.01).expect("runs");
@@ -124,7 +127,7 @@ fn bench_rhs() {
     println!("|---|---|---|---|---|---|");
     for n in [60usize, 150, 600, 1200] {
         let drive = if n < 100 { "section 3" } else { "5PK" };
-        let d = running_drive(n, 1);
+        let d = running_drive(n, 1, None);
         let cell = |b: Option<SimdBuild>| match rhs_cost(&d, b) {
             Some(c) => format!("{:.2}", c * 1e9),
             None => "-".to_string(),
@@ -437,14 +440,19 @@ fn main() {
             Some(b) => panic!("count-rhs: unknown build {b} (baseline, avx2, avx512)"),
         };
         let points = args.get(4).and_then(|s| s.parse().ok()).unwrap_or(1);
-        let d = running_drive(n, points);
+        // the paper's sets pin the damper across the gap to 0
+        let shear = args.get(5).and_then(|s| s.parse().ok());
+        let d = running_drive(n, points, shear);
         let y = d.state().to_vec();
         let mut dy = vec![0.0; y.len()];
         assert!(
             rhs_loop(&d, &y, &mut dy, reps, build),
             "the CPU lacks {build:?}"
         );
-        println!("{n} bodies, {points} contact points, {reps} evaluations");
+        println!(
+            "{n} bodies, {points} contact points, shear damping factor {}, {reps} evaluations",
+            d.system().axial().bt / d.system().axial().b
+        );
         return;
     }
     let mut opts = Opts {

@@ -489,6 +489,46 @@ fn sum4(cols: [&[f64]; 4], len: usize) -> [f64; 4] {
     })
 }
 
+/// Step (2) of [`BeltSystem::rhs`] over the SDEs `ks` of a block: SDE k
+/// joins the right end of body m = k to the left end of body m = k + 1
+/// (eq. 20-23); its forces, torques and dissipated power go to the SDE
+/// columns. Built for the axial damper terms the drive has
+/// ([`AxialSde::force_dissipation`]).
+#[inline(always)]
+fn sde_loop<const ALONG: bool, const ACROSS: bool>(
+    b: &mut Block,
+    axial: AxialSde,
+    bend: TorsionalSde,
+    ks: std::ops::Range<usize>,
+) {
+    assert!(ks.end < BODY_COL.min(SDE_COL));
+    let end = |b: &Block, m: usize| BodyEnd {
+        x: b.x[m],
+        y: b.y[m],
+        hx: b.hx[m],
+        hy: b.hy[m],
+        vx: b.vx[m],
+        vy: b.vy[m],
+        w: b.w[m],
+    };
+    for k in ks {
+        let (p, c) = (k, k + 1);
+        let (d, dd) = sde::gap(end(b, p), end(b, c));
+        let ([fx, fy], diss) = axial.force_dissipation::<ALONG, ACROSS>(d, dd);
+        b.fx[k] = fx;
+        b.fy[k] = fy;
+        // torques of the end forces about each body's centre
+        let t_cur = b.hx[c] * fy - b.hy[c] * fx; // (-h) x (-F)
+        let t_prev = b.hx[p] * fy - b.hy[p] * fx; // h x F
+        let dphi = trig::wrap_angle(b.phi[c] - b.phi[p]);
+        let dw = b.w[c] - b.w[p];
+        let moment = bend.moment(dphi, dw);
+        b.torque_cur[k] = t_cur - moment;
+        b.torque_prev[k] = t_prev + moment;
+        b.diss[k] = diss + bend.dissipation(dw);
+    }
+}
+
 /// Sum in four interleaved partial sums (vectorises).
 #[inline(always)]
 fn sum(v: &[f64]) -> f64 {
@@ -1091,22 +1131,14 @@ impl BeltSystem {
         let k0 = if first { 0 } else { 1 };
         let k_end = upto(k0, len + 1);
         assert!(k_end < BODY_COL.min(SDE_COL));
-        for k in k0..k_end {
-            let (p, c) = (k, k + 1);
-            let (d, dd) = sde::gap(end(b, p), end(b, c));
-            let (d2, rate) = axial.rate(d, dd);
-            let [fx, fy] = axial.force(d, dd, rate);
-            b.fx[k] = fx;
-            b.fy[k] = fy;
-            // torques of the end forces about each body's centre
-            let t_cur = b.hx[c] * fy - b.hy[c] * fx; // (-h) x (-F)
-            let t_prev = b.hx[p] * fy - b.hy[p] * fx; // h x F
-            let dphi = trig::wrap_angle(b.phi[c] - b.phi[p]);
-            let dw = b.w[c] - b.w[p];
-            let moment = bend.moment(dphi, dw);
-            b.torque_cur[k] = t_cur - moment;
-            b.torque_prev[k] = t_prev + moment;
-            b.diss[k] = axial.dissipation(d2, dd, rate) + bend.dissipation(dw);
+        // the loop built for the damper terms the drive's SDE has: the
+        // paper's set (damping along the gap) skips the term across it, the
+        // isotropic damper (the FMU's default) the stretch rate
+        match axial.damper_terms() {
+            (true, true) => sde_loop::<true, true>(b, axial, bend, k0..k_end),
+            (true, false) => sde_loop::<true, false>(b, axial, bend, k0..k_end),
+            (false, true) => sde_loop::<false, true>(b, axial, bend, k0..k_end),
+            (false, false) => sde_loop::<false, false>(b, axial, bend, k0..k_end),
         }
         // dissipation of SDEs i0..i0 + len (each counted in its own block)
         p_diss += sum(&b.diss[..len]);

@@ -101,6 +101,44 @@ impl AxialSde {
         self.bt * dd2 + (self.b - self.bt) * rate * rate * d2
     }
 
+    /// Which damper terms the element has: `(along, across)`, the
+    /// stretch-rate term `(b - b_t) rho d` (none when b_t = b, the
+    /// isotropic damper) and the `b_t d'` term (none when b_t = 0, the
+    /// paper's damper along the gap alone). The right-hand side picks its
+    /// [`Self::force_dissipation`] build from these once per block.
+    #[inline(always)]
+    pub fn damper_terms(&self) -> (bool, bool) {
+        (self.b - self.bt != 0.0, self.bt != 0.0)
+    }
+
+    /// [`Self::force`] and [`Self::dissipation`] for gap `d` and rate `dd`,
+    /// without the damper terms the element lacks (`ALONG`, `ACROSS` as
+    /// [`Self::damper_terms`] gives them): a drive pays only for the terms
+    /// it uses (without `ALONG`, not even the stretch rate's division).
+    /// Bit for bit the full law's values at such coefficients (a left-out
+    /// term is a zero product added to the sum), but for the sign of a force
+    /// component that is exactly zero.
+    #[inline(always)]
+    pub fn force_dissipation<const ALONG: bool, const ACROSS: bool>(
+        &self,
+        d: [f64; 2],
+        dd: [f64; 2],
+    ) -> ([f64; 2], f64) {
+        let (k, bt, ba) = (self.k, self.bt, self.b - self.bt);
+        let (mut f, mut diss) = ([k * d[0], k * d[1]], 0.0);
+        if ACROSS {
+            f = [f[0] + bt * dd[0], f[1] + bt * dd[1]];
+            diss = bt * (dd[0] * dd[0] + dd[1] * dd[1]);
+        }
+        if ALONG {
+            let (d2, rate) = self.rate(d, dd);
+            f = [f[0] + ba * rate * d[0], f[1] + ba * rate * d[1]];
+            let along = ba * rate * rate * d2;
+            diss = if ACROSS { diss + along } else { along };
+        }
+        (f, diss)
+    }
+
     /// Elastic energy stored at squared gap length `d2`: k |d|^2 / 2.
     #[inline(always)]
     pub fn energy(&self, d2: f64) -> f64 {
@@ -197,6 +235,46 @@ mod tests {
 
     fn force_of(law: &AxialSde, d: [f64; 2], dd: [f64; 2]) -> [f64; 2] {
         law.force(d, dd, law.rate(d, dd).1)
+    }
+
+    /// The builds without the damper terms a law lacks give the full law's
+    /// force and power to the bit (a zero's sign aside: with d and d' both
+    /// -0 the full law adds a +0 the build leaves out), at the paper's
+    /// element (b_t = 0), the isotropic one (b_t = b), one without damping
+    /// and one with more damping across than along (every term), over gaps
+    /// and rates of both signs, zeros of both signs among them.
+    #[test]
+    fn force_dissipation_is_the_full_law_bit_for_bit() {
+        let undamped = AxialSde {
+            b: 0.0,
+            bt: 0.0,
+            ..LAWS[0]
+        };
+        let vals = [0.0, -0.0, 1.2e-4, -3.0e-5, 2.0e-3, -0.7, 0.5, 1.0e-9];
+        for law in LAWS.iter().chain([&undamped]) {
+            let full = |d, dd| {
+                let (d2, rate) = law.rate(d, dd);
+                (law.force(d, dd, rate), law.dissipation(d2, dd, rate))
+            };
+            let (along, across) = law.damper_terms();
+            assert_eq!(along, law.b != law.bt);
+            assert_eq!(across, law.bt != 0.0);
+            let pairs = || vals.iter().flat_map(|&a| vals.iter().map(move |&b| [a, b]));
+            for (d, dd) in pairs().flat_map(|d| pairs().map(move |dd| (d, dd))) {
+                let built = match (along, across) {
+                    (true, true) => law.force_dissipation::<true, true>(d, dd),
+                    (true, false) => law.force_dissipation::<true, false>(d, dd),
+                    (false, true) => law.force_dissipation::<false, true>(d, dd),
+                    (false, false) => law.force_dissipation::<false, false>(d, dd),
+                };
+                let (a, b) = (built, full(d, dd));
+                for (a, b) in [a.0[0], a.0[1], a.1].into_iter().zip([b.0[0], b.0[1], b.1]) {
+                    // a zero's sign may differ (a left-out -0 term)
+                    let same = a.to_bits() == b.to_bits() || (a == 0.0 && b == 0.0);
+                    assert!(same, "{law:?} {d:?} {dd:?}: {a:e} against {b:e}");
+                }
+            }
+        }
     }
 
     /// Central differences of the force against [`AxialSde::partials`].
