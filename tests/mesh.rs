@@ -5,8 +5,8 @@
 //! (examples/common/mesh_limits.rs, from the two contacts' fine-mesh runs;
 //! the meshes are those of `cargo run --profile ci --example mesh_study`).
 //!
-//! Run with `cargo test --profile ci --test mesh` (about two and a half
-//! minutes on one core: the stiff method at relTol 1e-5, as in the study).
+//! Run with `cargo test --profile ci --test mesh` (35-65 s of wall time
+//! on the shared machine: the stiff method at relTol 1e-5, as in the study).
 
 use belt_drive::belt::params::Method;
 use belt_drive::belt::{Drive, DriveParams};
