@@ -5,12 +5,22 @@
 //!
 //! Every run is the stiff method (`solver.method` = 2) at relTol 1e-5 unless
 //! told otherwise; the speeds are means from the pulley angles over the
-//! averaging window. The mesh-converged value is the Richardson extrapolation
-//! of the two finest meshes (second order: the excess falls as n^-2).
+//! averaging window. The error column is the slip's relative error against
+//! the drive's reference in examples/common/mesh_limits.rs: the 5PK and 2:1
+//! drives' mesh-converged slips, which both contacts share (the values
+//! tests/mesh.rs checks against), and for the accessory drive the centre
+//! contact's n^-2 Richardson value from 480 and 960 bodies (a reference, not
+//! an established limit). Beside it the run prints the n^-2 Richardson
+//! value of its own two finest meshes.
 //!
 //! `cargo run --profile ci --example mesh_study -- [drive 5pk|2to1|accessory|all]
-//! [method 1|2] [relTol] [bodies,...] [contact.points]` (the drive's own
+//! [method 1|2] [relTol] [bodies,...|-] [contact.points]` (the drive's own
 //! `contact.points` when not given or 0).
+//!
+//! `cargo run --profile ci --example mesh_study -- errors DRIVE ROW...` prints
+//! the same table's error column for slips measured before, each ROW
+//! `bodies=loss` in % (`loss/loss/loss` for the accessory drive's three
+//! pulleys).
 
 use belt_drive::belt::params::Method;
 use belt_drive::belt::{Drive, DriveParams};
@@ -21,6 +31,9 @@ use drives::two_to_one;
 #[path = "common/ssv.rs"]
 mod ssv;
 use ssv::from_ssv;
+#[path = "common/mesh_limits.rs"]
+mod mesh_limits;
+use mesh_limits::{CONVERGED_2TO1, CONVERGED_5PK, REFERENCE_ACCESSORY};
 
 /// A drive of the study: its parameters, the averaging window and the meshes.
 struct Study {
@@ -30,6 +43,60 @@ struct Study {
     meshes: Vec<usize>,
     /// Pulleys whose speed loss against pulley 1 is reported.
     report: Vec<usize>,
+    /// The speed loss of each reported pulley the errors are taken against
+    /// [%], and what it is.
+    reference: (Vec<f64>, &'static str),
+}
+
+/// The n^-2 Richardson extrapolation of the two finest meshes' speed losses
+/// (`rows` ordered by body count).
+fn richardson(rows: &[(usize, Vec<f64>)]) -> Option<Vec<f64>> {
+    let [(n1, s1), (n2, s2)] = rows.get(rows.len().checked_sub(2)?..)? else {
+        return None;
+    };
+    let q = (*n2 as f64 / *n1 as f64).powi(2);
+    Some(
+        s1.iter()
+            .zip(s2)
+            .map(|(a, b)| (q * b - a) / (q - 1.0))
+            .collect(),
+    )
+}
+
+/// The speed losses of a row and their relative errors against `reference`,
+/// as the study's tables print them.
+fn loss_and_error(loss: &[f64], reference: &[f64]) -> (String, String) {
+    let join = |v: Vec<String>| v.join(" / ");
+    (
+        join(loss.iter().map(|x| format!("{x:.4}")).collect()),
+        join(
+            loss.iter()
+                .zip(reference)
+                .map(|(x, r)| format!("{:+.1} %", 100.0 * (x / r - 1.0)))
+                .collect(),
+        ),
+    )
+}
+
+/// The reference of a drive's errors, printed with what it is, and beside
+/// it the n^-2 Richardson value of the two finest of `rows`.
+fn reference(s: &Study, rows: &[(usize, Vec<f64>)]) -> Vec<f64> {
+    let join = |v: &[f64]| {
+        v.iter()
+            .map(|x| format!("{x:.4}"))
+            .collect::<Vec<_>>()
+            .join(" / ")
+    };
+    if let Some(r) = richardson(rows) {
+        let (n1, n2) = (rows[rows.len() - 2].0, rows[rows.len() - 1].0);
+        println!(
+            "Richardson (n^-2) from {n1} and {n2} bodies: {} %",
+            join(&r)
+        );
+    }
+    let (r, what) = &s.reference;
+    println!("errors against {what}: {} %", join(r));
+    r.clone()
 }
 
 /// Mean speeds over the window and mean span tensions.
@@ -57,8 +124,88 @@ fn run(p: &DriveParams, window: (f64, f64)) -> Result<(Vec<f64>, Vec<f64>, u64, 
     Ok((omega, tens, d.stats().steps, start.elapsed().as_secs_f64()))
 }
 
+/// The three drives of the study, with their averaging windows and meshes.
+fn studies() -> Vec<Study> {
+    vec![
+        Study {
+            name: "5pk",
+            params: DriveParams::kubas_section4(),
+            window: (0.6, 1.2),
+            meshes: vec![100, 150, 225, 300, 600],
+            report: vec![1],
+            reference: (vec![100.0 * CONVERGED_5PK], "the mesh-converged slip"),
+        },
+        Study {
+            name: "2to1",
+            params: two_to_one(),
+            window: (0.4, 1.0),
+            meshes: vec![80, 120, 180, 240, 480],
+            report: vec![1],
+            reference: (vec![100.0 * CONVERGED_2TO1], "the mesh-converged slip"),
+        },
+        Study {
+            name: "accessory",
+            params: from_ssv("accessory-drive-4.ssv"),
+            window: (0.8, 1.4),
+            meshes: vec![160, 240, 320, 480, 960],
+            report: vec![1, 2, 3],
+            reference: (
+                REFERENCE_ACCESSORY.iter().map(|x| 100.0 * x).collect(),
+                "the reference slips (the centre contact's Richardson value from 480 and 960 bodies)",
+            ),
+        },
+    ]
+}
+
+/// Body length over the smallest pulley radius of the drive at `n` bodies.
+fn length_ratio(p: &DriveParams, n: usize) -> f64 {
+    let mut p = p.clone();
+    p.belt.n_bodies = n;
+    p.probe_body = 0;
+    let r_min = p
+        .pulleys
+        .iter()
+        .map(|q| q.radius)
+        .fold(f64::INFINITY, f64::min);
+    Drive::mounted(&p, 0.0).unwrap().layout().body_length / r_min
+}
+
+/// `errors DRIVE ROW...`: the error column for slips measured before.
+fn errors(a: &[String]) {
+    let s = studies()
+        .into_iter()
+        .find(|s| Some(s.name) == a.first().map(String::as_str))
+        .expect("drive: 5pk, 2to1 or accessory");
+    let parse = |v: &str| -> Vec<f64> { v.split('/').map(|x| x.parse().unwrap()).collect() };
+    let rows: Vec<(usize, Vec<f64>, &str)> = a[1..]
+        .iter()
+        .map(|row| {
+            let (n, value) = row.split_once('=').expect("ROW is bodies=loss");
+            (n.parse().expect("bodies"), parse(value), value)
+        })
+        .collect();
+    println!("## {} (speed losses given)", s.name);
+    let mut sorted: Vec<(usize, Vec<f64>)> = rows.iter().map(|r| (r.0, r.1.clone())).collect();
+    sorted.sort_by_key(|r| r.0);
+    let reference = reference(&s, &sorted);
+    println!("| bodies | l / r_min | speed loss [%] | error |");
+    println!("|---|---|---|---|");
+    // The losses as given (their digits), the errors computed as for a run.
+    for (n, loss, given) in &rows {
+        let (_, e) = loss_and_error(loss, &reference);
+        println!(
+            "| {n} | {:.3} | {} | {e} |",
+            length_ratio(&s.params, *n),
+            given.replace('/', " / ")
+        );
+    }
+}
+
 fn main() {
     let a: Vec<String> = std::env::args().skip(1).collect();
+    if a.first().map(String::as_str) == Some("errors") {
+        return errors(&a[1..]);
+    }
     let arg = |i: usize, d: &str| a.get(i).cloned().unwrap_or_else(|| d.to_string());
     let which = arg(0, "all");
     let method: u32 = arg(1, "2").parse().unwrap();
@@ -69,29 +216,7 @@ fn main() {
         .map(|s| s.split(',').map(|x| x.parse().unwrap()).collect());
     let points: usize = arg(4, "0").parse().unwrap();
 
-    let mut studies = vec![
-        Study {
-            name: "5pk",
-            params: DriveParams::kubas_section4(),
-            window: (0.6, 1.2),
-            meshes: vec![100, 150, 225, 300, 600],
-            report: vec![1],
-        },
-        Study {
-            name: "2to1",
-            params: two_to_one(),
-            window: (0.4, 1.0),
-            meshes: vec![80, 120, 180, 240, 480],
-            report: vec![1],
-        },
-        Study {
-            name: "accessory",
-            params: from_ssv("accessory-drive-4.ssv"),
-            window: (0.8, 1.4),
-            meshes: vec![160, 240, 320, 480, 960],
-            report: vec![1, 2, 3],
-        },
-    ];
+    let mut studies = studies();
     studies.retain(|s| which == "all" || which == s.name);
     for s in &mut studies {
         if let Some(m) = &meshes {
@@ -110,23 +235,17 @@ fn main() {
         if points > 0 {
             p.contact.points = points;
         }
-        let r_min = p
-            .pulleys
-            .iter()
-            .map(|q| q.radius)
-            .fold(f64::INFINITY, f64::min);
         println!(
             "## {} (method {method}, relTol {rtol:e}, contact.points {}, window {}-{} s)",
             s.name, p.contact.points, s.window.0, s.window.1
         );
-        println!("| bodies | l / r_min | speed loss vs pulley 1 [%] | span tensions [N] | steps | wall [s] |");
-        println!("|---|---|---|---|---|---|");
-        let mut losses = Vec::new();
+        // Each run as it ends (stderr), the table with the errors once the
+        // reference is known (stdout).
+        let mut rows = Vec::new();
         for &n in &s.meshes {
             p.belt.n_bodies = n;
             match run(&p, s.window) {
                 Ok((w, t, steps, wall)) => {
-                    let l = Drive::mounted(&p, 0.0).unwrap().layout().body_length;
                     let loss: Vec<f64> = s
                         .report
                         .iter()
@@ -137,36 +256,33 @@ fn main() {
                                         / (w[0] * p.pulleys[0].radius).abs())
                         })
                         .collect();
-                    println!(
-                        "| {n} | {:.3} | {} | {} | {steps} | {wall:.0} |",
-                        l / r_min,
-                        loss.iter()
-                            .map(|x| format!("{x:.4}"))
-                            .collect::<Vec<_>>()
-                            .join(" / "),
-                        t.iter()
-                            .map(|x| format!("{x:.1}"))
-                            .collect::<Vec<_>>()
-                            .join(" / "),
+                    let tensions = t
+                        .iter()
+                        .map(|x| format!("{x:.1}"))
+                        .collect::<Vec<_>>()
+                        .join(" / ");
+                    eprintln!(
+                        "{} {n} bodies: {loss:.4?} %, {steps} steps, {wall:.0} s",
+                        s.name
                     );
-                    losses.push((n, loss));
+                    rows.push((n, loss, tensions, steps, wall));
                 }
-                Err(e) => println!("| {n} | | {e} | | | |"),
+                Err(e) => println!("{n} bodies: {e}"),
             }
         }
-        if losses.len() >= 2 {
-            let (n1, s1) = &losses[losses.len() - 2];
-            let (n2, s2) = &losses[losses.len() - 1];
-            let q = (*n2 as f64 / *n1 as f64).powi(2);
-            let rich: Vec<String> = s1
-                .iter()
-                .zip(s2)
-                .map(|(a, b)| format!("{:.4}", (q * b - a) / (q - 1.0)))
-                .collect();
+        let losses: Vec<(usize, Vec<f64>)> = rows.iter().map(|r| (r.0, r.1.clone())).collect();
+        let reference = reference(s, &losses);
+        println!(
+            "| bodies | l / r_min | speed loss vs pulley 1 [%] | error | span tensions [N] | steps | wall [s] |"
+        );
+        println!("|---|---|---|---|---|---|---|");
+        for (n, loss, tensions, steps, wall) in &rows {
+            let (l, e) = loss_and_error(loss, &reference);
             println!(
-                "Richardson (n^-2) from {n1} and {n2} bodies: {} %\n",
-                rich.join(" / ")
+                "| {n} | {:.3} | {l} | {e} | {tensions} | {steps} | {wall:.0} |",
+                length_ratio(&p, *n)
             );
         }
+        println!();
     }
 }
