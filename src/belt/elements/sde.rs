@@ -124,6 +124,10 @@ impl AxialSde {
         d: [f64; 2],
         dd: [f64; 2],
     ) -> ([f64; 2], f64) {
+        if ALONG && ACROSS {
+            let (d2, rate) = self.rate(d, dd);
+            return (self.force(d, dd, rate), self.dissipation(d2, dd, rate));
+        }
         let (k, bt, ba) = (self.k, self.bt, self.b - self.bt);
         let (mut f, mut diss) = ([k * d[0], k * d[1]], 0.0);
         if ACROSS {
@@ -133,8 +137,7 @@ impl AxialSde {
         if ALONG {
             let (d2, rate) = self.rate(d, dd);
             f = [f[0] + ba * rate * d[0], f[1] + ba * rate * d[1]];
-            let along = ba * rate * rate * d2;
-            diss = if ACROSS { diss + along } else { along };
+            diss = ba * rate * rate * d2;
         }
         (f, diss)
     }
