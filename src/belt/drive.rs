@@ -9,7 +9,7 @@ use super::layout::Layout;
 use super::param_id::{msg, Message, Param, Part};
 use super::params::{DriveParams, Method, ParamError, MAX_PULLEYS, PROBE_AUTO};
 use super::rkf45::Rkf45;
-use super::rosenbrock::{Rosenbrock, StiffSystem};
+use super::rosenbrock::{EnergyBalance, Rosenbrock, StiffSystem};
 use super::solver_params::TUNING;
 use super::stepping::{OdeSystem, Stats, StepControl, StepFailure};
 use super::system::{
@@ -31,8 +31,8 @@ impl OdeSystem for BeltSystem {
     fn controlled_dim(&self) -> usize {
         BeltSystem::controlled_dim(self)
     }
-    fn after_step(&self, y: &mut [f64]) {
-        BeltSystem::after_step(self, y);
+    fn after_step(&self, y: &mut [f64]) -> bool {
+        BeltSystem::after_step(self, y)
     }
 }
 
@@ -61,6 +61,12 @@ impl StiffSystem for BeltSystem {
     }
     fn solve(&self, jac: &Jacobian, m: &mut IterationMatrix, b: &mut [f64]) {
         m.solve(self, jac, b);
+    }
+    /// The input work less the dissipated and the stored energy, measured
+    /// against the belt's own stored energy (its bodies' kinetic energy and
+    /// the elastic energy of its SDEs, contacts and creep springs).
+    fn energy_balance(&self, y: &[f64]) -> Option<EnergyBalance> {
+        Some(BeltSystem::energy_balance(self, y))
     }
     fn save_jacobian(&self, jac: &Jacobian, out: &mut Vec<f64>) {
         jac.save(out);

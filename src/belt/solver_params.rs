@@ -81,6 +81,35 @@ pub struct SolverTuning {
     /// Step-size increases below this factor are not taken, so that the
     /// factored iteration matrix (which depends on h) can be reused.
     pub keep_step_below: f64,
+    /// The stiff method's energy check (docs/model.md, "Integrators"): a
+    /// trial step is also rejected when its energy residual r, the change
+    /// over the step of the input work less the dissipated and the stored
+    /// energy (zero for the exact flow), exceeds this times relTol times the
+    /// belt's own stored energy E_b (its bodies' kinetic energy and the
+    /// elastic energy of its SDEs, contacts and creep springs, at the
+    /// step's start): 1, the energy's own relative tolerance. The error
+    /// norm's components cannot see this error: it is a bias of ~0.5 % of
+    /// the belt forces in every step, coherent over all bodies, far below
+    /// each body's tolerance, which fed the belt's fast motion with energy
+    /// on fast, lightly loaded drives (60-body drive of tests/defaults.rs:
+    /// -1.54 W of a 0.5 W belt loss; speeds 0.67 % off). E_b, not the
+    /// pulleys' energy (an engine's inertia) nor the frame's gravity
+    /// potential, nor the transmitted power times h (that bound, relTol of
+    /// the power, asks the method to resolve the contact and pitching
+    /// modes it damps: steps near RKF45's).
+    pub energy_tolerance: f64,
+    /// Order in h of the energy residual of a step: 4, the local error of
+    /// the order-3 solution's energy (measured on the 60-body drive from a
+    /// running state: r falls 16-fold per halving of h below 0.1 ms). The
+    /// residual enters the error norm as (|r| / tol)^(3 / this), so that
+    /// the controller's exponent -1/3 for the order-2 embedded estimate
+    /// brings it to its tolerance.
+    pub energy_error_order: f64,
+    /// Round-off of the energy balance, in machine epsilons of the largest
+    /// term it sums (input work, dissipated, kinetic and potential energy):
+    /// a residual below it is taken as zero, and it floors the tolerance
+    /// (a belt at rest with no stored energy).
+    pub energy_roundoff_ulps: f64,
     /// Accepted steps a Jacobian is kept for (it is also re-evaluated after a
     /// rejected step and after a restore).
     pub jacobian_max_age: u32,
@@ -133,6 +162,9 @@ pub const TUNING: SolverTuning = SolverTuning {
     rosenbrock_factor_min: 0.2,
     rosenbrock_factor_max: 4.0,
     keep_step_below: 1.25,
+    energy_tolerance: 1.0,
+    energy_error_order: 4.0,
+    energy_roundoff_ulps: 1e3,
     jacobian_max_age: 2,
     sde_regularisation: 1e-6,
     relax_rel_tol: 1e-5,

@@ -21,8 +21,11 @@ pub trait OdeSystem {
     fn controlled_dim(&self) -> usize {
         self.dim()
     }
-    /// Called with the new state after every accepted step.
-    fn after_step(&self, _y: &mut [f64]) {}
+    /// Called with the new state after every accepted step; true if it
+    /// changed the state.
+    fn after_step(&self, _y: &mut [f64]) -> bool {
+        false
+    }
 }
 
 /// Counters, cumulative over the life of the integrator.
@@ -122,6 +125,9 @@ pub trait EmbeddedMethod<S: OdeSystem + ?Sized> {
     fn trial(&mut self, sys: &S, ws: &mut S::Workspace, t: f64, y: &[f64], h: f64) -> f64;
     /// Copies the candidate of the last trial into `y`.
     fn take_step(&mut self, y: &mut [f64]);
+    /// The system changed the state after the step was taken
+    /// ([`OdeSystem::after_step`]): what the method kept of it is stale.
+    fn state_changed(&mut self) {}
     /// Factor on h for scaled error `err` (rejected or accepted).
     fn step_factor(&self, err: f64) -> f64;
     /// A step was accepted; returns the factor to apply (hook for methods
@@ -208,7 +214,9 @@ where
         let factor = method.step_factor(err);
         if err <= 1.0 {
             method.take_step(y);
-            sys.after_step(y);
+            if sys.after_step(y) {
+                method.state_changed();
+            }
             *t = if last { t_end } else { *t + h };
             steps += 1;
             let factor = method.accepted(factor);

@@ -24,6 +24,7 @@ use super::elements::sde::{self, AxialSde, BodyEnd, TorsionalSde};
 use super::elements::tensioner::Arm;
 use super::layout::Layout;
 use super::params::{DriveParams, MAX_PULLEYS};
+use super::rosenbrock::EnergyBalance;
 use super::simd::{self, Isa};
 use super::solver_params::TUNING;
 use super::trig;
@@ -1322,8 +1323,10 @@ impl BeltSystem {
     }
 
     /// Discrete update after every accepted step: the creep displacement of a
-    /// body that touches no pulley is reset, and kept within its cap.
-    pub fn after_step(&self, y: &mut [f64]) {
+    /// body that touches no pulley is reset, and kept within its cap. True
+    /// if it changed any.
+    pub fn after_step(&self, y: &mut [f64]) -> bool {
+        let mut changed = false;
         let cap = self.friction.creep_cap();
         let mut centres = [[0.0; 2]; MAX_PULLEYS];
         for (j, c) in centres.iter_mut().enumerate().take(self.np) {
@@ -1337,12 +1340,15 @@ impl BeltSystem {
             if y[o + 6].to_bits() == 0 {
                 continue;
             }
-            y[o + 6] = if self.touching(i, y, &centres).is_some() {
+            let z = if self.touching(i, y, &centres).is_some() {
                 y[o + 6].clamp(-cap, cap)
             } else {
                 0.0
             };
+            changed |= z.to_bits() != y[o + 6].to_bits();
+            y[o + 6] = z;
         }
+        changed
     }
 
     /// The first pulley body `i` touches in state `y` (pulley centres
@@ -1450,38 +1456,86 @@ impl BeltSystem {
 
     /// Kinetic and potential (elastic + gravity) energy of state `y`.
     pub fn energies(&self, y: &[f64]) -> (f64, f64) {
+        let e = self.stored_energy(y);
+        (e.kinetic, e.potential)
+    }
+
+    /// The energy balance of state `y`: the input work less the dissipated
+    /// energy less the stored energy [J] (constant along the exact flow),
+    /// measured against the belt's own stored energy [J]. The dissipated energy is the
+    /// integrated friction and damper work less what the creep springs hold
+    /// (as the `energy.dissipated` output); the creep springs' energy is
+    /// part of the stored energy, so it drops out.
+    pub fn energy_balance(&self, y: &[f64]) -> EnergyBalance {
+        let e = self.stored_energy(y);
+        let o = self.energy_offset();
+        EnergyBalance {
+            balance: y[o] - y[o + 1] - e.kinetic - (e.potential - e.creep),
+            scale: e.belt,
+            magnitude: y[o].abs() + y[o + 1].abs() + e.kinetic + e.potential.abs(),
+        }
+    }
+
+    /// The stored energy of state `y` (see [`StoredEnergy`]): one pass over
+    /// the bodies, each body's sin/cos taken once and carried to its SDE
+    /// with the next, the contact and creep-spring energies only for the
+    /// bodies within a pulley's reach (cheap enough for the stiff method to
+    /// take once per trial step, [`super::rosenbrock`]).
+    pub fn stored_energy(&self, y: &[f64]) -> StoredEnergy {
         let n = self.n;
         let hl = self.half_length;
-        let mut kin = 0.0;
-        let mut pot = 0.0;
         let mut centres = [[0.0; 2]; MAX_PULLEYS];
         for (j, c) in centres.iter_mut().enumerate().take(self.np) {
             *c = self.pulley_centre(j, y).0;
         }
-        for i in 0..n {
-            let o = BODY_DOF * i;
-            let b = &y[o..o + BODY_DOF];
-            kin += 0.5 * self.mass * (b[3] * b[3] + b[4] * b[4]) + 0.5 * self.inertia * b[5] * b[5];
-            pot += self.mass * self.gravity * b[1];
-            for (pc, c) in self.pulleys[..self.np].iter().zip(&centres) {
-                pot += self.point_penetrations(b, c, &pc.radii, |w, p| w * self.contact.energy(p));
+        let quad = contact::quadrature(self.points);
+        let end = |b: &[f64]| {
+            let (s, c) = trig::sin_cos(b[2]);
+            BodyEnd {
+                x: b[0],
+                y: b[1],
+                hx: hl * c,
+                hy: hl * s,
+                ..BodyEnd::default()
             }
-            pot += self.creep_spring_energy_of(i, y, &centres);
-            let q = &y[BODY_DOF * ((i + n - 1) % n)..];
-            let at = |b: &[f64]| {
-                let (s, c) = b[2].sin_cos();
-                BodyEnd {
-                    x: b[0],
-                    y: b[1],
-                    hx: hl * c,
-                    hy: hl * s,
-                    ..BodyEnd::default()
+        };
+        let (mut kin, mut elastic, mut gravity, mut creep) = (0.0, 0.0, 0.0, 0.0);
+        let last = &y[BODY_DOF * (n - 1)..BODY_DOF * n];
+        let (mut prev, mut prev_angle) = (end(last), last[2]);
+        for (i, b) in y[..BODY_DOF * n].chunks_exact(BODY_DOF).enumerate() {
+            kin += 0.5 * self.mass * (b[3] * b[3] + b[4] * b[4]) + 0.5 * self.inertia * b[5] * b[5];
+            gravity += self.mass * self.gravity * b[1];
+            let cur = end(b);
+            let (d, _) = sde::gap(prev, cur);
+            elastic += self.axial.energy(d[0] * d[0] + d[1] * d[1]);
+            elastic += self.bend.energy(wrap_angle(b[2] - prev_angle));
+            for (pc, c) in self.pulleys[..self.np].iter().zip(&centres) {
+                let (rx, ry) = (b[0] - c[0], b[1] - c[1]);
+                // no contact point lies farther than l/2 from the centre
+                if rx * rx + ry * ry >= pc.reach * pc.reach {
+                    continue;
                 }
-            };
-            let (d, _) = sde::gap(at(q), at(b));
-            pot += self.axial.energy(d[0] * d[0] + d[1] * d[1]);
-            pot += self.bend.energy(wrap_angle(b[2] - q[2]));
+                let mut force = 0.0;
+                for (&(xi, w), &radius) in quad.iter().zip(&pc.radii) {
+                    let (px, py) = (rx + xi * cur.hx, ry + xi * cur.hy);
+                    let p = radius - (px * px + py * py).sqrt();
+                    if p > 0.0 {
+                        elastic += w * self.contact.energy(p);
+                        force += w * self.contact.elastic_force(p);
+                    }
+                }
+                if force > 0.0 {
+                    let zf = self.zone_factor[i];
+                    creep += force
+                        * self
+                            .friction
+                            .spring_energy(b[6], pc.mu_s * zf, pc.mu_k * zf);
+                }
+            }
+            (prev, prev_angle) = (cur, b[2]);
         }
+        let belt = kin + elastic + creep;
+        let mut pot = elastic + creep + gravity;
         for j in 0..self.np {
             let pc = &self.pulleys[j];
             let w = y[self.pulley_offset(j) + 1];
@@ -1498,8 +1552,29 @@ impl BeltSystem {
                 pot += arm.energy(a);
             }
         }
-        (kin, pot)
+        StoredEnergy {
+            kinetic: kin,
+            potential: pot,
+            belt,
+            creep,
+        }
     }
+}
+
+/// The stored energy of a state [J].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StoredEnergy {
+    /// Kinetic energy of the belt bodies, pulleys, decoupler rotors and arms.
+    pub kinetic: f64,
+    /// Elastic energy of the SDEs, contacts, creep springs, decoupler and
+    /// arm springs, and the belt's gravity potential.
+    pub potential: f64,
+    /// The belt's own part: its bodies' kinetic energy and the elastic
+    /// energy of its SDEs, contacts and creep springs (no gravity, whose
+    /// zero is the frame's, no pulley, whose inertia may be an engine's).
+    pub belt: f64,
+    /// The creep springs' part of `potential`.
+    pub creep: f64,
 }
 
 /// Contact and friction (eq. 4-19) of a run of bodies with pulley `pc`

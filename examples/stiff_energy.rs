@@ -1,0 +1,109 @@
+//! The stiff method's energy check on three drives (docs/model.md, "The
+//! energy check"): steps, mean speeds, span tensions and drive torques over
+//! the window, the energy balance's drift over it (input less dissipated
+//! less the change of the stored energy, from the outputs), and the trial
+//! steps rejected on their energy residual alone.
+//!
+//! `cargo run --profile ci --example stiff_energy -- DRIVE [METHOD] [RELTOL] [POINTS]`
+//! with DRIVE `sixty` (the 60-body drive of tests/defaults.rs, 0.3-0.5 s),
+//! `heavy` (the heavy belt of tests/python/test_mean_forces.py, 0.2-0.3 s)
+//! or `5pk` (the FMU's default drive, 0.35-0.6 s); METHOD 1 (RKF45) or 2
+//! (the stiff method, default); RELTOL 1e-4 by default; POINTS the
+//! contact points along a body (the drive's own by default).
+use belt_drive::belt::drive::Integrator;
+use belt_drive::belt::params::Method;
+use belt_drive::belt::{Drive, DriveParams, Inputs};
+
+fn sixty() -> DriveParams {
+    let mut p = DriveParams::default();
+    p.belt.n_bodies = 60;
+    p.belt.preload = 300.0;
+    p.probe_body = 0;
+    p.pulleys[0].radius = 0.05;
+    p.pulleys[1].radius = 0.05;
+    p.pulleys[1].x = 0.25;
+    p.pulleys[0].torque_ramp = -2.0;
+    p.pulleys[0].ramp_time = 0.05;
+    p.pulleys[1].load_damping = 0.05;
+    p.pulleys[1].ramp_time = 0.05;
+    p
+}
+
+fn heavy() -> DriveParams {
+    let mut p = DriveParams::default();
+    p.belt.n_bodies = 120;
+    p.belt.mass_per_length = 0.3;
+    p.probe_body = 0;
+    p.pulleys[0].radius = 0.06;
+    p.pulleys[0].speed_driven = true;
+    p.pulleys[0].omega_ramp = -150.0;
+    p.pulleys[0].torque_ramp = 0.0;
+    p.pulleys[0].ramp_time = 0.1;
+    p.pulleys[1].x = 0.35;
+    p.pulleys[1].load_damping = 0.01;
+    p.pulleys[1].ramp_time = 0.1;
+    p
+}
+
+fn main() {
+    let a: Vec<String> = std::env::args().skip(1).collect();
+    let name = a.first().map_or("sixty", String::as_str);
+    let method = if a.get(1).map(String::as_str) == Some("1") {
+        Method::Rkf45
+    } else {
+        Method::Rosenbrock
+    };
+    let tol: f64 = a.get(2).map_or(1e-4, |v| v.parse().unwrap());
+    let (mut p, t0, t1) = match name {
+        "sixty" => (sixty(), 0.3, 0.5),
+        "heavy" => (heavy(), 0.2, 0.3),
+        "5pk" => (DriveParams::default(), 0.35, 0.6),
+        _ => panic!("drive"),
+    };
+    if let Some(k) = a.get(3) {
+        p.contact.points = k.parse().unwrap();
+    }
+    p.solver.method = method;
+    p.solver.rel_tol = tol;
+    let mut d = Drive::new(&p, 0.0).expect("valid");
+    d.set_inputs(Inputs::default());
+    d.advance(t0).unwrap();
+    let np = p.pulleys.len();
+    let o0 = d.outputs();
+    let n = ((t1 - t0) / 1e-3f64).round() as usize;
+    let mut st = vec![0.0; np];
+    let mut dt = vec![0.0; np];
+    let mut last = o0.clone();
+    for k in 1..=n {
+        d.advance(t0 + k as f64 * 1e-3).unwrap();
+        last = d.outputs();
+        for j in 0..np {
+            st[j] += last.span_tension[j] / n as f64;
+            dt[j] += last.pulleys[j].mean_drive_torque / n as f64;
+        }
+    }
+    let om: Vec<f64> = (0..np)
+        .map(|j| (last.pulleys[j].angle - o0.pulleys[j].angle) / (t1 - t0))
+        .collect();
+    let bal = |o: &belt_drive::belt::Outputs| {
+        o.energy_input - o.energy_dissipated - o.kinetic_energy - o.potential_energy
+    };
+    let s = d.stats();
+    print!(
+        "{name}, {method:?} at {tol:e}: {} steps, {} rejected | speeds {:.4?} rad/s | span tensions {:.3?} N | mean drive torques {:.4?} N m | balance drift {:.4} W",
+        s.steps,
+        s.rejected,
+        om,
+        st,
+        dt,
+        (bal(&last) - bal(&o0)) / (t1 - t0)
+    );
+    if let Integrator::Rosenbrock(r) = d.integrator() {
+        print!(
+            " | jacobians {}, rejected on the energy residual {}",
+            r.jacobians, r.energy_rejections
+        );
+    }
+    let e = d.system().stored_energy(d.state());
+    println!(" | belt's stored energy {:.4} J", e.belt);
+}
