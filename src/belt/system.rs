@@ -471,10 +471,13 @@ fn sum4(cols: [&[f64]; 4], len: usize) -> [f64; 4] {
     let padded = cols[0].len();
     assert!(padded.is_multiple_of(PAD) && len <= padded && cols.iter().all(|c| c.len() == padded));
     let mut acc = [[0.0; 4]; 4];
-    for c in (0..full).step_by(4) {
-        for (a, col) in acc.iter_mut().zip(cols) {
-            for (k, a) in a.iter_mut().enumerate() {
-                *a += col[c + k];
+    // the whole chunks as arrays of four: no bounds checks, one vector add
+    // per column and chunk
+    let [c0, c1, c2, c3] = cols.map(|c| c[..full].as_chunks::<4>().0);
+    for (((x0, x1), x2), x3) in c0.iter().zip(c1).zip(c2).zip(c3) {
+        for (a, x) in acc.iter_mut().zip([x0, x1, x2, x3]) {
+            for (a, x) in a.iter_mut().zip(x) {
+                *a += x;
             }
         }
     }
@@ -493,10 +496,12 @@ fn sum4(cols: [&[f64]; 4], len: usize) -> [f64; 4] {
 /// Step (2) of [`BeltSystem::rhs`] over the SDEs `ks` of a block: SDE k
 /// joins the right end of body m = k to the left end of body m = k + 1
 /// (eq. 20-23); its forces, torques and dissipated power go to the SDE
-/// columns. Built for the axial damper terms the drive has
-/// ([`AxialSde::force_dissipation`]).
+/// columns. Built for the damper terms the drive has: the axial ones
+/// ([`AxialSde::force_dissipation`]) and the torsional one
+/// ([`TorsionalSde::moment_dissipation`]; without it the SDE's dissipation
+/// is the axial damper's alone).
 #[inline(always)]
-fn sde_loop<const ALONG: bool, const ACROSS: bool>(
+fn sde_loop<const ALONG: bool, const ACROSS: bool, const BENDING: bool>(
     b: &mut Block,
     axial: AxialSde,
     bend: TorsionalSde,
@@ -523,10 +528,10 @@ fn sde_loop<const ALONG: bool, const ACROSS: bool>(
         let t_prev = b.hx[p] * fy - b.hy[p] * fx; // h x F
         let dphi = trig::wrap_angle(b.phi[c] - b.phi[p]);
         let dw = b.w[c] - b.w[p];
-        let moment = bend.moment(dphi, dw);
+        let (moment, bend_diss) = bend.moment_dissipation::<BENDING>(dphi, dw);
         b.torque_cur[k] = t_cur - moment;
         b.torque_prev[k] = t_prev + moment;
-        b.diss[k] = diss + bend.dissipation(dw);
+        b.diss[k] = if BENDING { diss + bend_diss } else { diss };
     }
 }
 
@@ -1132,14 +1137,20 @@ impl BeltSystem {
         let k0 = if first { 0 } else { 1 };
         let k_end = upto(k0, len + 1);
         assert!(k_end < BODY_COL.min(SDE_COL));
-        // the loop built for the damper terms the drive's SDE has: the
+        // the loop built for the damper terms the drive's SDEs have: the
         // paper's set (damping along the gap) skips the term across it, the
-        // isotropic damper (the FMU's default) the stretch rate
-        match axial.damper_terms() {
-            (true, true) => sde_loop::<true, true>(b, axial, bend, k0..k_end),
-            (true, false) => sde_loop::<true, false>(b, axial, bend, k0..k_end),
-            (false, true) => sde_loop::<false, true>(b, axial, bend, k0..k_end),
-            (false, false) => sde_loop::<false, false>(b, axial, bend, k0..k_end),
+        // isotropic damper (the FMU's default) the stretch rate, and a belt
+        // without bending damping (both) the torsional damper
+        let ks = k0..k_end;
+        match (axial.damper_terms(), bend.damped()) {
+            ((true, true), true) => sde_loop::<true, true, true>(b, axial, bend, ks),
+            ((true, false), true) => sde_loop::<true, false, true>(b, axial, bend, ks),
+            ((false, true), true) => sde_loop::<false, true, true>(b, axial, bend, ks),
+            ((false, false), true) => sde_loop::<false, false, true>(b, axial, bend, ks),
+            ((true, true), false) => sde_loop::<true, true, false>(b, axial, bend, ks),
+            ((true, false), false) => sde_loop::<true, false, false>(b, axial, bend, ks),
+            ((false, true), false) => sde_loop::<false, true, false>(b, axial, bend, ks),
+            ((false, false), false) => sde_loop::<false, false, false>(b, axial, bend, ks),
         }
         // dissipation of SDEs i0..i0 + len (each counted in its own block)
         p_diss += sum(&b.diss[..len]);
