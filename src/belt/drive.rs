@@ -690,6 +690,15 @@ impl Drive {
     pub fn integrator(&self) -> &Integrator {
         &self.integrator
     }
+    /// Switches the stiff method's energy check on every trial step (on by
+    /// default; [`Rosenbrock::energy_check`]); RKF45 has none. Off for runs at
+    /// tight tolerances that need a step sequence smooth in the state (the
+    /// modal analysis' settling onto a periodic orbit).
+    pub fn set_energy_check(&mut self, on: bool) {
+        if let Integrator::Rosenbrock(i) = &mut self.integrator {
+            i.energy_check = on;
+        }
+    }
     /// The inputs held over the current step.
     pub fn inputs(&self) -> &Inputs {
         &self.sys.inputs

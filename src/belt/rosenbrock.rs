@@ -201,6 +201,12 @@ pub struct Rosenbrock<Sys: StiffSystem> {
     pub control: StepControl,
     /// Accepted steps a Jacobian is used for (1 = a fresh one every step).
     pub jacobian_max_age: u32,
+    /// Whether a trial step is also checked on its energy residual (with
+    /// the no-growth rule after a rejection); true by default. Off, the step
+    /// control is the error norm's alone, whose step sequence is smooth in
+    /// the state: for runs at tolerances where the norm alone is accurate
+    /// and that need a smooth flow map (the modal analysis' own runs).
+    pub energy_check: bool,
     /// Jacobian evaluations and factorizations (cumulative).
     pub jacobians: u64,
     /// Factorizations of the iteration matrix (cumulative).
@@ -243,6 +249,7 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
             abs_tol,
             control: StepControl::new(dim, h0, max_steps),
             jacobian_max_age: JACOBIAN_MAX_AGE,
+            energy_check: true,
             jacobians: 0,
             factorizations: 0,
             jac: sys.new_jacobian(),
@@ -404,8 +411,9 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
             },
         );
         let err = (sum / self.controlled as f64).sqrt();
-        if err > 1.0 || err.is_nan() {
-            // rejected anyway (or not finite): the energy residual is not needed
+        if !self.energy_check || err > 1.0 || err.is_nan() {
+            // no check, or rejected anyway (or not finite): the energy
+            // residual is not needed
             self.trial_balance = None;
             return err;
         }
@@ -578,7 +586,7 @@ impl<Sys: StiffSystem> EmbeddedMethod<Sys> for Rosenbrock<Sys> {
 
     fn rejected(&mut self) {
         self.jac_age = None;
-        self.no_grow = true;
+        self.no_grow = self.energy_check;
     }
 
     fn failed(&mut self) {
