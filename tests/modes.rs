@@ -1015,47 +1015,11 @@ fn spin_kick_at_rest(
     })
 }
 
-/// The bodies' pitching energy in state `y`: over `bodies`, each body's
-/// angle and spin against the rigid motion its two neighbours give it (the
-/// direction of the chord between their centres, and that direction's rate),
-/// (I dw^2 + I wn^2 da^2) / 2 summed (`wn` the mode's angular frequency).
-/// The belt's travel, its transverse motion and the wrap's turn move the
-/// chord with the body, so this is the pitching alone.
-fn pitching_energy(lin: &adapter::Linearisation, y: &[f64], bodies: &[usize], wn: f64) -> f64 {
-    let n = lin.n;
-    bodies
-        .iter()
-        .map(|&i| {
-            let (a, b) = ((i + n - 1) % n, (i + 1) % n);
-            let (dx, dy) = (
-                y[lin.body(b, 0)] - y[lin.body(a, 0)],
-                y[lin.body(b, 1)] - y[lin.body(a, 1)],
-            );
-            let (dvx, dvy) = (
-                y[lin.body(b, 3)] - y[lin.body(a, 3)],
-                y[lin.body(b, 4)] - y[lin.body(a, 4)],
-            );
-            let chord = dy.atan2(dx);
-            let rate = (dx * dvy - dy * dvx) / (dx * dx + dy * dy);
-            let pi = std::f64::consts::PI;
-            let d = y[lin.body(i, 2)] - chord;
-            let da = d - (d / pi).round() * pi;
-            let dw = y[lin.body(i, 5)] - rate;
-            0.5 * lin.inertia * (dw * dw + wn * wn * da * da)
-        })
-        .sum()
-}
-
 /// The pitching energy left 0.1 ms after a spin `kick` [rad/s] is given to
 /// the bodies `kicked` picks on the drive run to 0.2 s, each method on its
-/// own steps at relTol 1e-4, as a share of the kick's energy: the pitching
-/// of the picked bodies but three at each end against their neighbours'
-/// rigid motion ([`pitching_energy`]) in the kicked run itself (that
-/// before the kick is printed; `wn` the mode's angular frequency). Not the
-/// difference from an unkicked run: each run takes its own steps, and the
-/// stiff method's energy check makes the two step sequences differ, so that
-/// difference carries their integration error (the bodies' spins are
-/// controlled to relTol of ~10 % of the belt's turn). [RKF45, stiff].
+/// own steps at relTol 1e-4: the difference from the same run without the
+/// kick, over the picked bodies but three at each end, as a share of the
+/// kick's energy (`wn` the mode's angular frequency). [RKF45, stiff].
 fn pitching_energy_left(
     p: &DriveParams,
     kick: f64,
@@ -1069,27 +1033,38 @@ fn pitching_energy_left(
                     let mut q = p.clone();
                     q.solver.method = method;
                     q.solver.rel_tol = 1e-4;
-                    let mut drive: Drive = adapter::build(&q).expect("valid drive");
-                    adapter::run_to(&mut drive, 0.2).expect("run");
-                    let lin = adapter::linearise(&drive);
-                    let picked = kicked(&lin);
-                    let inner = &picked[3..picked.len() - 3];
-                    let before = pitching_energy(&lin, adapter::state(&drive), inner, wn);
-                    let mut y = adapter::state(&drive).to_vec();
-                    for &i in &picked {
-                        y[lin.body(i, 5)] += kick;
+                    let mut states = Vec::new();
+                    let mut bodies = (Vec::new(), 0.0);
+                    for spin in [0.0, kick] {
+                        let mut drive: Drive = adapter::build(&q).expect("valid drive");
+                        adapter::run_to(&mut drive, 0.2).expect("run");
+                        let lin = adapter::linearise(&drive);
+                        let picked = kicked(&lin);
+                        let mut y = adapter::state(&drive).to_vec();
+                        for &i in &picked {
+                            y[lin.body(i, 5)] += spin;
+                        }
+                        adapter::set_state(&mut drive, &y).expect("state fits");
+                        drive.advance(drive.time() + 1e-4).expect("run");
+                        states.push(adapter::state(&drive).to_vec());
+                        bodies = (
+                            picked[3..picked.len() - 3]
+                                .iter()
+                                .map(|&i| (lin.body(i, 2), lin.body(i, 5)))
+                                .collect::<Vec<_>>(),
+                            lin.inertia,
+                        );
                     }
-                    adapter::set_state(&mut drive, &y).expect("state fits");
-                    drive.advance(drive.time() + 1e-4).expect("run");
-                    let after = pitching_energy(&lin, adapter::state(&drive), inner, wn);
-                    let scale = 0.5 * lin.inertia * kick * kick * inner.len() as f64;
-                    eprintln!(
-                        "{method:?}: pitching energy of the kick's before it {:.1e}, 0.1 ms \
-                         after {:.1e}",
-                        before / scale,
-                        after / scale
-                    );
-                    after / scale
+                    let (inner, inertia) = bodies;
+                    let energy: f64 = inner
+                        .iter()
+                        .map(|&(a, w)| {
+                            let dw = states[1][w] - states[0][w];
+                            let da = states[1][a] - states[0][a];
+                            0.5 * inertia * (dw * dw + wn * wn * da * da)
+                        })
+                        .sum();
+                    energy / (0.5 * inertia * kick * kick * inner.len() as f64)
                 })
             })
             .into_iter()
