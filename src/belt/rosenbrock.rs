@@ -833,15 +833,19 @@ mod tests {
     /// numerical damping takes most of the energy.
     #[test]
     fn energy_check_bounds_the_energy_residual_per_step() {
-        let run = |check: bool| {
+        // `check`: the system books its energy; `switch`: the integrator's
+        // energy check is on
+        let run_with = |check: bool, switch: bool| {
             let sys = Oscillator { check };
             let mut ros = Rosenbrock::new(&sys, 1e-6, 1e-6, 1e-3, 1_000_000);
+            ros.energy_check = switch;
             let (mut t, mut y) = (0.0, vec![1.0, 0.0]);
             let t_end = 20.0 * std::f64::consts::PI;
             ros.advance(&sys, &mut (), &mut t, &mut y, t_end).unwrap();
             let drift = 1.0 - (y[0] * y[0] + y[1] * y[1]);
             (drift, ros.control.stats.steps, ros.energy_rejections)
         };
+        let run = |check: bool| run_with(check, true);
         let (drift, steps, rejections) = run(true);
         assert!(
             drift.abs() <= 1e-6 * steps as f64,
@@ -852,6 +856,8 @@ mod tests {
             unchecked > 0.5 && unchecked_steps < steps / 10,
             "without the check: drift {unchecked:e} over {unchecked_steps} steps"
         );
+        // the switch off: the error norm's step control alone, step for step
+        assert_eq!(run_with(true, false), (unchecked, unchecked_steps, 0));
     }
 
     /// The AVX2 build of a trial step gives the baseline's state and error
