@@ -46,13 +46,6 @@ def test_mounted_at_rest_the_spring_balances_the_hub_moment(runs):
             40.0 * row["pulley[4].arm.freeAngle"], rel=1e-12)
 
 
-@pytest.mark.xfail(strict=True, reason="the stiff method at relTol 1e-4 gives the span tensions "
-                   "0.3-0.5 % low, span 4 by more than the 0.5 % bound (434.79 against RKF45's "
-                   "437.11 N, -0.53 %); RKF45 at 1e-4 is the converged value (RKF45 at 1e-6 within "
-                   "0.001 %, the stiff method at 1e-6 within 0.006 %), the stiff method at 1e-5 "
-                   "-0.14 %, at 1e-4 without its energy check -0.47 % (`cargo run --profile ci "
-                   "--example stiff_energy -- tensioner 2 1e-4 - off`): an open accuracy limit of "
-                   "the stiff method at 1e-4 on this drive (docs/model.md, tensioner arm)")
 def test_integrators_agree_on_the_tensioner_set(runs):
     """Means over 0.6-0.8 s (idle reached at 0.5 s): speeds and span
     tensions within 0.5 % (the issue's figure), the arm's mean angle within
