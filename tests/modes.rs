@@ -1293,10 +1293,11 @@ fn wrap_pitching_is_the_closed_form_with_both_integrators() {
 ///   top, decay more slowly). The kick must give a response the methods
 ///   resolve at the tolerances they run at: the kicked and unkicked runs
 ///   take different steps, so their difference holds their integration
-///   error besides the pitching, and a kick of 4 rad/s (angle amplitude
-///   4 / omega_n = 1.2e-5 rad) left 0.35 of its energy with the stiff
-///   method (RKF45 1.3e-4), an angle difference at the level of the steps'
-///   angle error, not pitching. So one kick for both methods, from the
+///   error besides the pitching: a kick of 4 rad/s (angle amplitude
+///   4 / omega_n = 1.2e-5 rad) left 0.94 of its energy with the stiff
+///   method, and one of 7.8 rad/s (ten times absTol + relTol |phi| alone)
+///   0.35 (RKF45 1.3e-4), an angle difference at the level of the stiff
+///   method's angle error, not pitching. So one kick for both methods, from the
 ///   state ([`Kick::Resolvable`]): the angle amplitude kick / omega_n ten
 ///   times the largest angle error either method allows a kicked body per
 ///   step, absTol + relTol |phi| (measured 2.4e-6 rad: the span's angles
