@@ -50,12 +50,8 @@ fn main() {
         let sets: Vec<String> = args[4..].to_vec();
         let mut p = params::drive_params(Some(std::path::Path::new(&args[0])), &sets).unwrap();
         let w: f64 = args[1].parse().unwrap();
-        let sign = if p.pulleys[0].omega_ramp < 0.0 {
-            -1.0
-        } else {
-            1.0
-        };
-        p.pulleys[0].omega_ramp = sign * w;
+        // the crank's speed, in the direction the set drives it
+        p.pulleys[0].omega_ramp = w.copysign(p.pulleys[0].omega_ramp);
         let at = p.pulleys[0].ramp_time + 0.3;
         (p, at)
     };

@@ -39,11 +39,15 @@ fn contacts(sys: &BeltSystem, ws: &mut Workspace, t: f64, y: &[f64]) -> Vec<(usi
     c.0
 }
 
-/// The input work less the dissipated and the stored energy [J].
+/// The input work less the dissipated and the stored energy [J]. The state's
+/// friction-work accumulator includes the work stored in the creep springs,
+/// which the potential energy also holds: the dissipated energy is that
+/// accumulator less the creep springs' energy, as `energy.dissipated` is.
 fn balance(sys: &BeltSystem, y: &[f64]) -> f64 {
     let e = sys.energy_offset();
     let (kinetic, potential) = sys.energies(y);
-    y[e] - y[e + 1] - kinetic - potential
+    let dissipated = y[e + 1] - sys.creep_spring_energy(y);
+    y[e] - dissipated - kinetic - potential
 }
 
 fn main() {

@@ -115,8 +115,7 @@ fn run() -> Result<(), String> {
                 );
             }
             // keep the set's direction of rotation
-            let sign = if crank.omega_ramp < 0.0 { -1.0 } else { 1.0 };
-            crank.omega_ramp = sign * w;
+            crank.omega_ramp = w.copysign(crank.omega_ramp);
             at = a.at.unwrap_or(crank.ramp_time + 0.3);
             o.transport = w > 0.0;
         }

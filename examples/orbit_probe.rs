@@ -15,7 +15,7 @@ fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let mut ssv = None;
     let mut sets = Vec::new();
-    let mut speed = 240.0;
+    let mut speed = 240.0_f64;
     let mut periods = 400usize;
     let mut out = String::from("/tmp/probe.csv");
     let mut i = 0;
@@ -46,12 +46,8 @@ fn main() {
         i += 1;
     }
     let mut p = params::drive_params(ssv.as_deref(), &sets).unwrap();
-    let sign = if p.pulleys[0].omega_ramp < 0.0 {
-        -1.0
-    } else {
-        1.0
-    };
-    p.pulleys[0].omega_ramp = sign * speed;
+    // the crank's speed, in the direction the set drives it
+    p.pulleys[0].omega_ramp = speed.copysign(p.pulleys[0].omega_ramp);
     let at = p.pulleys[0].ramp_time + 0.3;
     let t0 = std::time::Instant::now();
     let mut run = adapter::build(&p).unwrap();

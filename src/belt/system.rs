@@ -267,6 +267,20 @@ const _: () = assert!(
 );
 
 impl Block {
+    /// Body m's end data as the SDE law reads it.
+    #[inline(always)]
+    fn body_end(&self, m: usize) -> BodyEnd {
+        BodyEnd {
+            x: self.x[m],
+            y: self.y[m],
+            hx: self.hx[m],
+            hy: self.hy[m],
+            vx: self.vx[m],
+            vy: self.vy[m],
+            w: self.w[m],
+        }
+    }
+
     fn new() -> Self {
         const C: [f64; BODY_COL] = [0.0; BODY_COL];
         const S: [f64; SDE_COL] = [0.0; SDE_COL];
@@ -520,18 +534,9 @@ fn sde_loop<const ALONG: bool, const ACROSS: bool, const BENDING: bool, const EN
     ks: std::ops::Range<usize>,
 ) {
     assert!(ks.end < BODY_COL.min(SDE_COL));
-    let end = |b: &Block, m: usize| BodyEnd {
-        x: b.x[m],
-        y: b.y[m],
-        hx: b.hx[m],
-        hy: b.hy[m],
-        vx: b.vx[m],
-        vy: b.vy[m],
-        w: b.w[m],
-    };
     for k in ks {
         let (p, c) = (k, k + 1);
-        let (d, dd) = sde::gap(end(b, p), end(b, c));
+        let (d, dd) = sde::gap(b.body_end(p), b.body_end(c));
         let ([fx, fy], diss) = axial.force_dissipation::<ALONG, ACROSS>(d, dd);
         b.fx[k] = fx;
         b.fy[k] = fy;
@@ -1251,15 +1256,6 @@ impl BeltSystem {
         // (2) SDE k joins the right end of body m = k to the left end of
         // body m = k + 1 (eq. 20-23); k = 0 was carried unless first.
         let (axial, bend) = (self.axial, self.bend);
-        let end = |b: &Block, m: usize| BodyEnd {
-            x: b.x[m],
-            y: b.y[m],
-            hx: b.hx[m],
-            hy: b.hy[m],
-            vx: b.vx[m],
-            vy: b.vy[m],
-            w: b.w[m],
-        };
         let k0 = if first { 0 } else { 1 };
         let k_end = upto(k0, len + 1);
         assert!(k_end < BODY_COL.min(SDE_COL));
@@ -1291,7 +1287,7 @@ impl BeltSystem {
             rec.belt_loss(sum(&b.diss[..len]));
             for k in 0..len {
                 let (p, c) = (k, k + 1);
-                let (d, dd) = sde::gap(end(b, p), end(b, c));
+                let (d, dd) = sde::gap(b.body_end(p), b.body_end(c));
                 let (d2, rate) = axial.rate(d, dd);
                 let mid = [
                     0.5 * ((b.x[c] - b.hx[c]) + (b.x[p] + b.hx[p])),
