@@ -186,23 +186,30 @@ impl Integrator {
     /// Integrator data beyond step size and counters that a saved state
     /// must carry (the stiff method's kept Jacobian, RKF45's step-size
     /// controller memory).
-    fn save(&self, sys: &BeltSystem) -> Vec<f64> {
+    fn save(&self, sys: &BeltSystem, point: &[f64]) -> Vec<f64> {
         let mut out = Vec::new();
         match self {
             Self::Rkf45(i) => i.save(&mut out),
-            Self::Rosenbrock(i) => i.save(sys, &mut out),
+            Self::Rosenbrock(i) => i.save(sys, point, &mut out),
         }
         out
     }
 
     /// Restores step size, counters and what [`save`](Self::save) wrote.
-    fn restore(&mut self, sys: &BeltSystem, h: f64, stats: Stats, extra: &[f64]) -> bool {
+    fn restore(
+        &mut self,
+        sys: &BeltSystem,
+        point: &[f64],
+        h: f64,
+        stats: Stats,
+        extra: &[f64],
+    ) -> bool {
         let c = self.control_mut();
         c.h = h;
         c.stats = stats;
         match self {
             Self::Rkf45(i) => i.load(extra),
-            Self::Rosenbrock(i) => i.load(sys, extra),
+            Self::Rosenbrock(i) => i.load(sys, point, extra),
         }
     }
 }
@@ -947,9 +954,22 @@ impl Drive {
         best
     }
 
+    /// What the right-hand side depends on: time, state and inputs (the
+    /// stiff method keeps its first stage in the integrator data for this
+    /// point only).
+    fn point(&self) -> Vec<f64> {
+        let i = &self.sys.inputs;
+        let mut p = vec![self.t, i.t0];
+        p.extend_from_slice(&self.y);
+        for a in [i.torque, i.torque_rate, i.omega_ref, i.omega_ref_rate] {
+            p.extend_from_slice(&a);
+        }
+        p
+    }
+
     /// Integrator data for a saved state, see [`restore`](Self::restore).
     pub fn integrator_data(&self) -> Vec<f64> {
-        self.integrator.save(&self.sys)
+        self.integrator.save(&self.sys, &self.point())
     }
 
     /// Replaces time, state, window, inputs and integrator data (restoring
@@ -974,7 +994,7 @@ impl Drive {
         self.y.copy_from_slice(y);
         self.sys.inputs = inputs;
         self.integrator
-            .restore(&self.sys, h, stats, integrator_data)
+            .restore(&self.sys, &self.point(), h, stats, integrator_data)
     }
 
     /// Free angles of the tensioner arms' springs found by the mounting, in

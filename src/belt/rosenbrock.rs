@@ -314,7 +314,10 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
     /// time, the right-hand side and the energy balance; evaluated again,
     /// they would be the same bits, but the count of right-hand sides
     /// would not), the kept Jacobian, its age, and the factored `c`.
-    pub fn save(&self, sys: &Sys, out: &mut Vec<f64>) {
+    /// `point`: what the right-hand side depends on (time, state, inputs);
+    /// the first stage is restored only at the same point (a caller may
+    /// restore the data with another state, keeping the Jacobian).
+    pub fn save(&self, sys: &Sys, point: &[f64], out: &mut Vec<f64>) {
         out.push(self.jacobians as f64);
         out.push(self.factorizations as f64);
         match (self.f_start_at, self.balance) {
@@ -322,6 +325,7 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
             (Some(t), balance) => {
                 out.push(if balance.is_some() { 2.0 } else { 1.0 });
                 out.push(t);
+                out.extend_from_slice(&fingerprint(point));
                 out.extend_from_slice(&self.f_start);
                 if let Some(b) = balance {
                     out.extend_from_slice(&[b.balance, b.scale, b.magnitude]);
@@ -340,7 +344,7 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
 
     /// Reads what [`save`](Self::save) wrote; false (and a fresh Jacobian
     /// at the next step) if it does not fit this system.
-    pub fn load(&mut self, sys: &Sys, src: &[f64]) -> bool {
+    pub fn load(&mut self, sys: &Sys, point: &[f64], src: &[f64]) -> bool {
         self.invalidate();
         let [jacobians, factorizations, kept, rest @ ..] = src else {
             return false;
@@ -355,9 +359,12 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
         let dim = self.f_start.len();
         let (kept, rest) = match (count(*kept), rest) {
             (Some(0), rest) => (None, rest),
-            (Some(k @ (1 | 2)), [t, rest @ ..]) if rest.len() > dim + 3 * (k as usize - 1) => {
+            (Some(k @ (1 | 2)), [t, hi, lo, rest @ ..])
+                if rest.len() > dim + 3 * (k as usize - 1) =>
+            {
                 let (data, rest) = rest.split_at(dim + 3 * (k as usize - 1));
-                (Some((*t, data)), rest)
+                let here = [*hi, *lo] == fingerprint(point);
+                (here.then_some((*t, data)), rest)
             }
             _ => return false,
         };
@@ -588,6 +595,15 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
         self.no_grow = false;
         super::stepping::advance(self, sys, ws, t, y, t_end)
     }
+}
+
+/// A 64-bit fingerprint (FNV-1a over the bits) of the numbers `point`, as
+/// two exact integers.
+fn fingerprint(point: &[f64]) -> [f64; 2] {
+    let h = point.iter().fold(0xcbf2_9ce4_8422_2325_u64, |h, x| {
+        (h ^ x.to_bits()).wrapping_mul(0x0000_0100_0000_01b3)
+    });
+    [(h >> 32) as f64, (h & 0xffff_ffff) as f64]
 }
 
 /// The earlier stages `done` with their coefficients `coef(j)`, zero
