@@ -2,7 +2,7 @@
 //! writes (`dist/default_drive.html`). The FMU outputs pulley and span
 //! quantities, not the position of every belt body, so this runs the same
 //! physics core (`Drive`) with the FMU's default parameters
-//! (`DriveParams::kubas_section4()`, the FMU's start values: checked in
+//! (`DriveParams::default()`, the FMU's start values: checked in
 //! tests/parameter_sets.rs) and the same integrator settings, and writes one
 //! frame per `--frame-step`: every body's position, every SDE's tension, the
 //! pulley angles and the outputs the page plots. The main job compares the
@@ -68,7 +68,7 @@ fn main() {
     let frame = opt("--frame-step", 0.01);
     let method = opt("--method", 1.0);
     let probe = opt("--probe", 108.0) as usize;
-    let mut p = DriveParams::kubas_section4();
+    let mut p = DriveParams::default();
     p.solver.rel_tol = opt("--rel-tol", p.solver.rel_tol);
     p.solver.method = match method as i32 {
         1 => Method::Rkf45,

@@ -15,7 +15,7 @@
 //!
 //! `cargo run --profile ci --example mesh_study -- [drive 5pk|2to1|accessory|all]
 //! [method 1|2] [relTol] [bodies,...|-] [contact.points] [mu scale]
-//! [NAME*FACTOR...]` (the drive's own `contact.points` when not given or 0;
+//! [NAME*FACTOR...]` (the centre contact, `contact.points` 1, when not given or 0;
 //! every pulley's static and kinetic friction coefficients times the scale,
 //! default 1; each NAME*FACTOR multiplies one belt or contact parameter, by
 //! its FMU name: belt.massPerLength, belt.bendingStiffness,
@@ -150,7 +150,14 @@ fn studies() -> Vec<Study> {
         },
         Study {
             name: "accessory",
-            params: from_ssv("accessory-drive-4.ssv"),
+            // the centre contact, as on the other two drives (the paper's
+            // set they derive from pins it); the FMU's default, 4 points, is
+            // the study's `contact.points` 4
+            params: {
+                let mut p = from_ssv("accessory-drive-4.ssv");
+                p.contact.points = 1;
+                p
+            },
             window: (0.8, 1.4),
             meshes: vec![160, 240, 320, 480, 960],
             report: vec![1, 2, 3],

@@ -1426,12 +1426,21 @@ fn span_pitching_is_damped_by_the_sde_with_both_integrators() {
 /// ([`span_growth_is_the_floquet_damping`]).
 #[test]
 fn accessory_running_rotational_mode_rings_in_the_time_domain() {
+    // The centre contact (`contact.points` 1), the drive these figures were
+    // established on. With the FMU's default 4 points the drive runs
+    // differently and the analysis does not yet hold on it: the running
+    // orbit settles only to a defect of 4.7e-3 (against 2e-3); the
+    // alternator mode is 69.01 Hz predicted against 67.96 Hz in the time
+    // domain (-1.5 %, zeta 0.0409 against 0.0414); but the most unstable
+    // span mode (span 3, 368.6 Hz, zeta -0.0092) does not grow in the time
+    // domain over 0.25 s (its amplitude beats at 1-4e-7 m).
     let p = ssv(
         "accessory-drive-4.ssv",
         &[
             "solver.method=2",
             "solver.relTol=1e-6",
             "solver.absTol=1e-8",
+            "contact.points=1",
         ],
     );
     let Running {

@@ -69,12 +69,16 @@ fn section4_file_is_the_papers_drive_and_the_default() {
     assert_eq!(p, with_fmu_guard(DriveParams::kubas_section4()));
     // and so are the model description's start values, bit for bit, but
     // for the contact damping ramp: the set spells out the paper's 1 mm,
-    // the default is the automatic ramp (0); and for the SDE's damper: the
-    // paper's acts along the gap only (0), the default's across it too (1)
+    // the default is the automatic ramp (0); for the SDE's damper: the
+    // paper's acts along the gap only (0), the default's across it too (1);
+    // and for the contact points: the set spells out the paper's centre
+    // contact (1), the default is the contact along the body at 4 points
     let mut default = p.clone();
     default.contact.p_max = 0.0;
     assert_eq!(p.belt.shear_damping_factor, 0.0);
     default.belt.shear_damping_factor = 1.0;
+    assert_eq!(p.contact.points, 1);
+    default.contact.points = 4;
     assert_eq!(BeltDrive::new().drive_params().unwrap(), default);
     assert_eq!(default, with_fmu_guard(DriveParams::default()));
 }
