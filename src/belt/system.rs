@@ -584,14 +584,25 @@ impl BlockEnergy {
 #[inline(always)]
 fn body_sums(b: &Block, len: usize) -> [f64; 3] {
     let (vx, vy, w, y) = (&b.vx[1..=len], &b.vy[1..=len], &b.w[1..=len], &b.y[1..=len]);
-    let mut acc = [[0.0; 4]; 3];
     let full = len & !3;
-    for i in (0..full).step_by(4) {
-        for l in 0..4 {
-            let j = i + l;
-            acc[0][l] += vx[j] * vx[j] + vy[j] * vy[j];
-            acc[1][l] += w[j] * w[j];
-            acc[2][l] += y[j];
+    fn fours(c: &[f64], full: usize) -> &[[f64; 4]] {
+        c[..full].as_chunks::<4>().0
+    }
+    let chunks = |c| fours(c, full);
+    let (mut av, mut aw, mut ay) = ([0.0; 4], [0.0; 4], [0.0; 4]);
+    for (((vx, vy), w), y) in chunks(vx)
+        .iter()
+        .zip(chunks(vy))
+        .zip(chunks(w))
+        .zip(chunks(y))
+    {
+        let lanes = av.iter_mut().zip(&mut aw).zip(&mut ay);
+        for (((av, aw), ay), ((vx, vy), (w, y))) in
+            lanes.zip(vx.iter().zip(vy).zip(w.iter().zip(y)))
+        {
+            *av += vx * vx + vy * vy;
+            *aw += w * w;
+            *ay += y;
         }
     }
     let mut rest = [0.0; 3];
@@ -600,10 +611,8 @@ fn body_sums(b: &Block, len: usize) -> [f64; 3] {
         rest[1] += w[j] * w[j];
         rest[2] += y[j];
     }
-    std::array::from_fn(|s| {
-        let [a0, a1, a2, a3] = acc[s];
-        (a0 + a1) + (a2 + a3) + rest[s]
-    })
+    let total = |[a0, a1, a2, a3]: [f64; 4], r: f64| (a0 + a1) + (a2 + a3) + r;
+    [total(av, rest[0]), total(aw, rest[1]), total(ay, rest[2])]
 }
 
 /// Sum in four interleaved partial sums (vectorises).
