@@ -4,15 +4,41 @@
 //! less the change of the stored energy, from the outputs), and the trial
 //! steps rejected on their energy residual alone.
 //!
-//! `cargo run --profile ci --example stiff_energy -- DRIVE [METHOD] [RELTOL] [POINTS]`
+//! `cargo run --profile ci --example stiff_energy -- DRIVE [METHOD] [RELTOL] [POINTS] [off]`
 //! with DRIVE `sixty` (the 60-body drive of tests/defaults.rs, 0.3-0.5 s),
-//! `heavy` (the heavy belt of tests/python/test_mean_forces.py, 0.2-0.3 s)
-//! or `5pk` (the FMU's default drive, 0.35-0.6 s); METHOD 1 (RKF45) or 2
-//! (the stiff method, default); RELTOL 1e-4 by default; POINTS the
-//! contact points along a body (the drive's own by default).
+//! `heavy` (the heavy belt of tests/python/test_mean_forces.py, 0.2-0.3 s),
+//! `5pk` (the FMU's default drive, 0.35-0.6 s) or `tensioner`
+//! (parameters/accessory-drive-tensioner.ssv as it ships, 0.6-0.8 s, as
+//! tests/python/test_tensioner.py); METHOD 1 (RKF45) or 2 (the stiff
+//! method, default); RELTOL 1e-4 by default; POINTS the contact points
+//! along a body (`-` or absent: the drive's own); `off` runs the stiff
+//! method without its energy check.
 use belt_drive::belt::drive::Integrator;
 use belt_drive::belt::params::Method;
 use belt_drive::belt::{Drive, DriveParams, Inputs};
+use belt_drive::fmi::FmuModel;
+use belt_drive::fmu::variables::{by_name, VarType};
+use belt_drive::fmu::BeltDrive;
+
+/// A parameter set of `parameters/` applied through the FMU adapter.
+fn parameter_set(file: &str) -> DriveParams {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("parameters")
+        .join(file);
+    let text = std::fs::read_to_string(&path).expect("parameter set");
+    let mut m = BeltDrive::new();
+    for p in model_description::ssv::read(&text).expect("valid .ssv") {
+        let v = by_name(&p.name).expect("known variable");
+        match v.ty {
+            VarType::Real => m.set_real(v, p.value.parse().unwrap()),
+            VarType::Integer => m.set_integer(v, p.value.parse().unwrap()),
+            VarType::Boolean => m.set_boolean(v, p.value == "true"),
+            _ => Ok(()),
+        }
+        .expect("value accepted");
+    }
+    m.drive_params().expect("valid set")
+}
 
 fn sixty() -> DriveParams {
     let mut p = DriveParams::default();
@@ -58,14 +84,21 @@ fn main() {
         "sixty" => (sixty(), 0.3, 0.5),
         "heavy" => (heavy(), 0.2, 0.3),
         "5pk" => (DriveParams::default(), 0.35, 0.6),
+        "tensioner" => {
+            let mut p = parameter_set("accessory-drive-tensioner.ssv");
+            // the set's step guard is the FMU's per-communication-step bound
+            p.solver.max_steps = DriveParams::default().solver.max_steps;
+            (p, 0.6, 0.8)
+        }
         _ => panic!("drive"),
     };
-    if let Some(k) = a.get(3) {
+    if let Some(k) = a.get(3).filter(|k| k.as_str() != "-") {
         p.contact.points = k.parse().unwrap();
     }
     p.solver.method = method;
     p.solver.rel_tol = tol;
     let mut d = Drive::new(&p, 0.0).expect("valid");
+    d.set_energy_check(a.get(4).map(String::as_str) != Some("off"));
     d.set_inputs(Inputs::default());
     d.advance(t0).unwrap();
     let np = p.pulleys.len();
