@@ -529,6 +529,42 @@ fn compare(sys: &BeltSystem, lever: &[(f64, f64)], t: f64, y: &[f64], label: &st
             );
         }
     }
+    // The evaluation that also takes the stored energy (the stiff method's
+    // energy check, first stage same as last): the same dy to the bit in
+    // every build, and the separate pass's stored energy to 1e-12 of the
+    // terms it sums. The two sum the same per-body and per-contact terms
+    // in another order (~1e-15 of them); the contact's penetration is
+    // formed by the contact kinematics here, by `stored_energy` there (a
+    // few ulps of the radius, 1e-13 of a contact's energy at p ~ 1e-4 m).
+    let e_ref = sys.stored_energy(y);
+    let heights: f64 = (0..sys.n_bodies()).map(|i| y[BODY_DOF * i + 1].abs()).sum();
+    let e_scale =
+        e_ref.kinetic + e_ref.belt + e_ref.potential.abs() + sys.mass() * sys.gravity() * heights;
+    for build in [Isa::Baseline, Isa::Avx2, Isa::Avx512] {
+        let mut dy_e = vec![f64::NAN; dim];
+        let Some(e) = sys.rhs_energy_build(build, &mut ws, t, y, &mut dy_e) else {
+            assert!(build != Isa::Baseline);
+            continue;
+        };
+        for row in 0..dim {
+            assert_eq!(
+                dy[row].to_bits(),
+                dy_e[row].to_bits(),
+                "{label}: rhs and {build:?} rhs_energy dy[{row}] differ"
+            );
+        }
+        for (what, a, b) in [
+            ("kinetic", e.kinetic, e_ref.kinetic),
+            ("potential", e.potential, e_ref.potential),
+            ("belt", e.belt, e_ref.belt),
+            ("creep", e.creep, e_ref.creep),
+        ] {
+            assert!(
+                (a - b).abs() <= 1e-12 * e_scale,
+                "{label}: {build:?} in-pass {what} energy {a} vs stored_energy {b} (scale {e_scale})"
+            );
+        }
+    }
     let mut dy_rec = vec![1e300; dim];
     let mut log = Log::default();
     sys.rhs(&mut ws, t, y, &mut dy_rec, &mut log);
@@ -615,7 +651,10 @@ fn compare(sys: &BeltSystem, lever: &[(f64, f64)], t: f64, y: &[f64], label: &st
         mag[e + 1],
     );
     let cap = sys.friction().creep_cap();
-    let mut ex = Exercised::default();
+    let mut ex = Exercised {
+        creep_energy: usize::from(e_ref.creep > 0.0),
+        ..Exercised::default()
+    };
     for (&(i, _), r) in &log_ref.contact {
         let z = y[BODY_DOF * i + 6];
         ex.contacts += 1;
@@ -634,6 +673,8 @@ struct Exercised {
     below_cap: usize,
     /// |v_T| < dv (the kubas2014 law's stick branch).
     stick: usize,
+    /// States whose creep springs store energy.
+    creep_energy: usize,
 }
 
 impl std::ops::AddAssign for Exercised {
@@ -642,6 +683,7 @@ impl std::ops::AddAssign for Exercised {
         self.held_at_cap += o.held_at_cap;
         self.below_cap += o.below_cap;
         self.stick += o.stick;
+        self.creep_energy += o.creep_energy;
     }
 }
 
@@ -870,6 +912,8 @@ fn check_drive(which: usize) {
             ex.held_at_cap > states && ex.below_cap > states,
             "{name}: {ex:?}"
         );
+        // the in-pass energy was compared with creep springs loaded
+        assert!(ex.creep_energy > states / 2, "{name}: {ex:?}");
         if p.friction.law == FrictionLaw::Kubas2014 {
             assert!(
                 ex.stick > states,

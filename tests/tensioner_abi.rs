@@ -96,9 +96,10 @@ fn fnv1a_64(bytes: &[u8]) -> u64 {
     })
 }
 
-/// A state written by the previous snapshot version (3: no impulse states
-/// behind the mean force outputs; 2 had no tensioner free angles either) is
-/// refused with a message saying so, not misread.
+/// A state written by the previous snapshot version (4: no first stage of
+/// the stiff method in the integrator data; 3 had no impulse states behind
+/// the mean force outputs, 2 no tensioner free angles either) is refused
+/// with a message saying so, not misread.
 #[test]
 fn a_state_of_the_previous_version_is_refused() {
     let fmi = Fmi::load();
@@ -114,16 +115,16 @@ fn a_state_of_the_previous_version_is_refused() {
     let model = 16 + guid_len + 1 + 8 + 9 + 8;
     assert_eq!(
         u32::from_le_bytes(bytes[model..model + 4].try_into().unwrap()),
-        4
+        5
     );
-    bytes[model..model + 4].copy_from_slice(&3u32.to_le_bytes());
+    bytes[model..model + 4].copy_from_slice(&4u32.to_le_bytes());
     let n = bytes.len() - 8;
     let sum = fnv1a_64(&bytes[..n]);
     bytes[n..].copy_from_slice(&sum.to_le_bytes());
     let (status, _) = a.deserialize(&bytes);
     assert_eq!(status, ERROR);
     assert!(
-        a.logged(ERROR, "model state version 3 is not supported (expected 4)"),
+        a.logged(ERROR, "model state version 4 is not supported (expected 5)"),
         "{:?}",
         a.log.borrow()
     );

@@ -68,6 +68,18 @@ impl StiffSystem for BeltSystem {
     fn energy_balance(&self, y: &[f64]) -> Option<EnergyBalance> {
         Some(BeltSystem::energy_balance(self, y))
     }
+    /// The right-hand side with the stored energy taken in the same pass
+    /// over the bodies ([`BeltSystem::rhs_energy`]).
+    fn rhs_balance(
+        &self,
+        ws: &mut Workspace,
+        t: f64,
+        y: &[f64],
+        dy: &mut [f64],
+    ) -> Option<EnergyBalance> {
+        let e = BeltSystem::rhs_energy(self, ws, t, y, dy);
+        Some(self.balance_of(y, e))
+    }
     fn save_jacobian(&self, jac: &Jacobian, out: &mut Vec<f64>) {
         jac.save(out);
     }
@@ -138,6 +150,14 @@ impl Integrator {
         }
     }
 
+    /// The state or the inputs were changed between steps: the stiff
+    /// method's kept first stage and energy balance are stale.
+    fn state_changed(&mut self) {
+        if let Self::Rosenbrock(i) = self {
+            i.state_changed();
+        }
+    }
+
     /// Step size, counters and work guard.
     pub fn control(&self) -> &StepControl {
         match self {
@@ -166,23 +186,30 @@ impl Integrator {
     /// Integrator data beyond step size and counters that a saved state
     /// must carry (the stiff method's kept Jacobian, RKF45's step-size
     /// controller memory).
-    fn save(&self, sys: &BeltSystem) -> Vec<f64> {
+    fn save(&self, sys: &BeltSystem, point: &[f64]) -> Vec<f64> {
         let mut out = Vec::new();
         match self {
             Self::Rkf45(i) => i.save(&mut out),
-            Self::Rosenbrock(i) => i.save(sys, &mut out),
+            Self::Rosenbrock(i) => i.save(sys, point, &mut out),
         }
         out
     }
 
     /// Restores step size, counters and what [`save`](Self::save) wrote.
-    fn restore(&mut self, sys: &BeltSystem, h: f64, stats: Stats, extra: &[f64]) -> bool {
+    fn restore(
+        &mut self,
+        sys: &BeltSystem,
+        point: &[f64],
+        h: f64,
+        stats: Stats,
+        extra: &[f64],
+    ) -> bool {
         let c = self.control_mut();
         c.h = h;
         c.stats = stats;
         match self {
             Self::Rkf45(i) => i.load(extra),
-            Self::Rosenbrock(i) => i.load(sys, extra),
+            Self::Rosenbrock(i) => i.load(sys, point, extra),
         }
     }
 }
@@ -708,12 +735,28 @@ impl Drive {
     /// time). A speed-driven pulley's speed jumps to its new prescription.
     pub fn set_inputs(&mut self, mut inputs: Inputs) {
         inputs.t0 = self.t;
+        // the right-hand side stays the same to the bit where the values
+        // stay and no rate is set before or after (then the time they were
+        // set at does not enter it)
+        let old = self.sys.inputs;
+        let held = |i: &Inputs| {
+            i.torque_rate == [0.0; MAX_PULLEYS] && i.omega_ref_rate == [0.0; MAX_PULLEYS]
+        };
+        let mut same = held(&old)
+            && held(&inputs)
+            && old.torque.map(f64::to_bits) == inputs.torque.map(f64::to_bits)
+            && old.omega_ref.map(f64::to_bits) == inputs.omega_ref.map(f64::to_bits);
         self.sys.inputs = inputs;
         for j in 0..self.sys.np {
             if self.sys.pulleys[j].speed_driven {
                 let o = self.sys.pulley_offset(j);
-                self.y[o + 1] = self.sys.prescribed_speed(j, self.t).0;
+                let w = self.sys.prescribed_speed(j, self.t).0;
+                same &= w.to_bits() == self.y[o + 1].to_bits();
+                self.y[o + 1] = w;
             }
+        }
+        if !same {
+            self.integrator.state_changed();
         }
     }
 
@@ -911,9 +954,22 @@ impl Drive {
         best
     }
 
+    /// What the right-hand side depends on: time, state and inputs (the
+    /// stiff method keeps its first stage in the integrator data for this
+    /// point only).
+    fn point(&self) -> Vec<f64> {
+        let i = &self.sys.inputs;
+        let mut p = vec![self.t, i.t0];
+        p.extend_from_slice(&self.y);
+        for a in [i.torque, i.torque_rate, i.omega_ref, i.omega_ref_rate] {
+            p.extend_from_slice(&a);
+        }
+        p
+    }
+
     /// Integrator data for a saved state, see [`restore`](Self::restore).
     pub fn integrator_data(&self) -> Vec<f64> {
-        self.integrator.save(&self.sys)
+        self.integrator.save(&self.sys, &self.point())
     }
 
     /// Replaces time, state, window, inputs and integrator data (restoring
@@ -938,7 +994,7 @@ impl Drive {
         self.y.copy_from_slice(y);
         self.sys.inputs = inputs;
         self.integrator
-            .restore(&self.sys, h, stats, integrator_data)
+            .restore(&self.sys, &self.point(), h, stats, integrator_data)
     }
 
     /// Free angles of the tensioner arms' springs found by the mounting, in
@@ -962,6 +1018,7 @@ impl Drive {
         for (arm, &a) in arms.zip(angles) {
             arm.free_angle = a;
         }
+        self.integrator.state_changed();
         true
     }
 

@@ -55,6 +55,19 @@ pub trait StiffSystem: OdeSystem {
     fn energy_balance(&self, _y: &[f64]) -> Option<EnergyBalance> {
         None
     }
+    /// dy = f(t, y) and the energy balance of `y` ([`Self::energy_balance`])
+    /// from one evaluation; `dy` must be the right-hand side's to the last
+    /// bit. By default the right-hand side, then the balance.
+    fn rhs_balance(
+        &self,
+        ws: &mut Self::Workspace,
+        t: f64,
+        y: &[f64],
+        dy: &mut [f64],
+    ) -> Option<EnergyBalance> {
+        self.rhs(ws, t, y, dy);
+        self.energy_balance(y)
+    }
     /// Appends the Jacobian's numbers to `out` / reads them back (false if
     /// they do not fit), for saved states.
     fn save_jacobian(&self, jac: &Self::Jacobian, out: &mut Vec<f64>);
@@ -219,11 +232,19 @@ pub struct Rosenbrock<Sys: StiffSystem> {
     factored_c: Option<f64>,
     u: [Vec<f64>; S],
     f: Vec<f64>,
+    /// f(t, y) at the start of the next trial step, the first stage's
+    /// (alpha_0 = 0, a_0j = 0), if known: the time it was taken at.
+    f_start: Vec<f64>,
+    f_start_at: Option<f64>,
+    /// f at the last trial step's end (time, state): the next step's first
+    /// stage if the trial is accepted (first same as last).
+    f_end: Vec<f64>,
+    f_end_at: Option<f64>,
     stage: Vec<f64>,
     mask: Vec<f64>,
     controlled: usize,
-    /// The energy balance at the start of the next trial step, if known
-    /// (the state is unchanged since it was taken).
+    /// The energy balance at the start of the next trial step, if known:
+    /// taken with `f_start`, valid while it is.
     balance: Option<EnergyBalance>,
     /// The energy balance of the last trial step's end state.
     trial_balance: Option<EnergyBalance>,
@@ -258,6 +279,10 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
             factored_c: None,
             u: std::array::from_fn(|_| vec![0.0; dim]),
             f: vec![0.0; dim],
+            f_start: vec![0.0; dim],
+            f_start_at: None,
+            f_end: vec![0.0; dim],
+            f_end_at: None,
             stage: vec![0.0; dim],
             balance: None,
             trial_balance: None,
@@ -266,19 +291,47 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
         }
     }
 
-    /// Forgets the Jacobian and factorization (after the state was replaced).
+    /// Forgets the Jacobian and factorization (after the state was replaced),
+    /// and what [`Self::state_changed`] forgets.
     pub fn invalidate(&mut self) {
-        self.balance = None;
+        self.state_changed();
         self.jac_age = None;
         self.factored_c = None;
     }
 
+    /// Forgets the right-hand side and energy balance kept from the last
+    /// step's end: call it whenever the state or the system's inputs are
+    /// changed between calls of [`Self::advance`] at the same time (a
+    /// change of the time is noticed: they are kept for one time).
+    pub fn state_changed(&mut self) {
+        self.balance = None;
+        self.f_start_at = None;
+    }
+
     /// What must be saved besides state, step size and counters for a
     /// restored run to continue bit-identically: Jacobian evaluations and
-    /// factorizations, the kept Jacobian, its age, and the factored `c`.
-    pub fn save(&self, sys: &Sys, out: &mut Vec<f64>) {
+    /// factorizations, the first stage kept from the last step's end (its
+    /// time, the right-hand side and the energy balance; evaluated again,
+    /// they would be the same bits, but the count of right-hand sides
+    /// would not), the kept Jacobian, its age, and the factored `c`.
+    /// `point`: what the right-hand side depends on (time, state, inputs);
+    /// the first stage is restored only at the same point (a caller may
+    /// restore the data with another state, keeping the Jacobian).
+    pub fn save(&self, sys: &Sys, point: &[f64], out: &mut Vec<f64>) {
         out.push(self.jacobians as f64);
         out.push(self.factorizations as f64);
+        match (self.f_start_at, self.balance) {
+            (None, _) => out.push(0.0),
+            (Some(t), balance) => {
+                out.push(if balance.is_some() { 2.0 } else { 1.0 });
+                out.push(t);
+                out.extend_from_slice(&fingerprint(point));
+                out.extend_from_slice(&self.f_start);
+                if let Some(b) = balance {
+                    out.extend_from_slice(&[b.balance, b.scale, b.magnitude]);
+                }
+            }
+        }
         match self.jac_age {
             None => out.push(-1.0),
             Some(age) => {
@@ -291,9 +344,9 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
 
     /// Reads what [`save`](Self::save) wrote; false (and a fresh Jacobian
     /// at the next step) if it does not fit this system.
-    pub fn load(&mut self, sys: &Sys, src: &[f64]) -> bool {
+    pub fn load(&mut self, sys: &Sys, point: &[f64], src: &[f64]) -> bool {
         self.invalidate();
-        let [jacobians, factorizations, age, rest @ ..] = src else {
+        let [jacobians, factorizations, kept, rest @ ..] = src else {
             return false;
         };
         let count = |x: f64| (x >= 0.0 && x.fract() == 0.0 && x < 9e15).then_some(x as u64);
@@ -301,23 +354,54 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
         else {
             return false;
         };
+        // the kept first stage: none (0), its time and right-hand side (1),
+        // and its energy balance (2)
+        let dim = self.f_start.len();
+        let (kept, rest) = match (count(*kept), rest) {
+            (Some(0), rest) => (None, rest),
+            (Some(k @ (1 | 2)), [t, hi, lo, rest @ ..])
+                if rest.len() > dim + 3 * (k as usize - 1) =>
+            {
+                let (data, rest) = rest.split_at(dim + 3 * (k as usize - 1));
+                let here = [*hi, *lo] == fingerprint(point);
+                (here.then_some((*t, data)), rest)
+            }
+            _ => return false,
+        };
+        let [age, rest @ ..] = rest else {
+            return false;
+        };
         self.jacobians = jacobians;
         self.factorizations = factorizations;
-        if *age < 0.0 {
-            return rest.is_empty();
+        if *age >= 0.0 {
+            let Some(age) = count(*age).and_then(|a| u32::try_from(a).ok()) else {
+                return false;
+            };
+            let [c, jac @ ..] = rest else {
+                return false;
+            };
+            if !sys.load_jacobian(&mut self.jac, jac) {
+                return false;
+            }
+            self.jac_age = Some(age);
+            if *c > 0.0 && sys.factor(&self.jac, *c, &mut self.mat) {
+                self.factored_c = Some(*c);
+            }
+        } else if !rest.is_empty() {
+            return false;
         }
-        let Some(age) = count(*age).and_then(|a| u32::try_from(a).ok()) else {
-            return false;
-        };
-        let [c, jac @ ..] = rest else {
-            return false;
-        };
-        if !sys.load_jacobian(&mut self.jac, jac) {
-            return false;
-        }
-        self.jac_age = Some(age);
-        if *c > 0.0 && sys.factor(&self.jac, *c, &mut self.mat) {
-            self.factored_c = Some(*c);
+        if let Some((t, data)) = kept {
+            let (f, balance) = data.split_at(dim);
+            self.f_start.copy_from_slice(f);
+            self.f_start_at = Some(t);
+            self.balance = match *balance {
+                [balance, scale, magnitude] => Some(EnergyBalance {
+                    balance,
+                    scale,
+                    magnitude,
+                }),
+                _ => None,
+            };
         }
         true
     }
@@ -357,7 +441,32 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
             }
             self.factored_c = Some(c);
         }
-        for i in 0..S {
+        // the first stage, f(t, y): kept from the previous step's end (or
+        // from a rejected trial from the same start), else evaluated here,
+        // with the energy balance in the same pass when the check wants it
+        if self.f_start_at != Some(t) {
+            self.balance = if self.energy_check {
+                sys.rhs_balance(ws, t, y, &mut self.f_start)
+            } else {
+                sys.rhs(ws, t, y, &mut self.f_start);
+                None
+            };
+            self.f_start_at = Some(t);
+            self.control.stats.rhs_evals += 1;
+        }
+        {
+            let ui = &mut self.u[0];
+            simd::dispatch_with(
+                isa,
+                (&mut ui[..], &self.f_start[..]),
+                #[inline(always)]
+                move |(ui, f)| {
+                    combine(ui, f, |f| c * f, &terms(&[][..], |_| 0.0));
+                },
+            );
+            sys.solve(&self.jac, &mut self.mat, ui);
+        }
+        for i in 1..S {
             // stage state y + sum a_ij U_j
             let (done, rest) = self.u.split_at_mut(i);
             simd::dispatch_with(
@@ -411,13 +520,27 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
             },
         );
         let err = (sum / self.controlled as f64).sqrt();
-        if !self.energy_check || err > 1.0 || err.is_nan() {
-            // no check, or rejected anyway (or not finite): the energy
-            // residual is not needed
-            self.trial_balance = None;
+        self.trial_balance = None;
+        self.f_end_at = None;
+        if err > 1.0 || err.is_nan() {
+            // rejected anyway (or not finite): the end state's right-hand
+            // side and energy are not needed
             return err;
         }
-        let energy = self.energy_error(sys, y);
+        // f at the end state: the next step's first stage if this one is
+        // accepted (t + h is the time the step driver moves to), with the
+        // energy balance from the same evaluation when checked
+        let t_end = t + h;
+        self.f_end_at = Some(t_end);
+        self.control.stats.rhs_evals += 1;
+        if !self.energy_check {
+            sys.rhs(ws, t_end, &self.stage, &mut self.f_end);
+            return err;
+        }
+        let Some(end) = sys.rhs_balance(ws, t_end, &self.stage, &mut self.f_end) else {
+            return err;
+        };
+        let energy = self.energy_error(sys, y, end);
         if energy > 1.0 {
             self.energy_rejections += 1;
         }
@@ -432,11 +555,10 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
     /// local error of the order-3 solution's energy, O(h^4), the embedded
     /// estimate O(h^3): the power 3/4 makes the step factor
     /// err^(-1/3) the one that brings r to its tolerance, and 1 still
-    /// means "at tolerance". 0 where the system books no energy.
-    fn energy_error(&mut self, sys: &Sys, y: &[f64]) -> f64 {
-        let Some(end) = sys.energy_balance(&self.stage) else {
-            return 0.0;
-        };
+    /// means "at tolerance". `end`: the balance of the end state.
+    fn energy_error(&mut self, sys: &Sys, y: &[f64], end: EnergyBalance) -> f64 {
+        // the start's balance is taken with its right-hand side; it is
+        // missing only where that was taken with the check off
         let start = match self.balance {
             Some(b) => b,
             None => {
@@ -467,12 +589,21 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
         y: &mut [f64],
         t_end: f64,
     ) -> Result<(), StepFailure> {
-        // the state may have been changed since the last step; every
-        // advance ends on an accepted step
-        self.balance = None;
+        // every advance ends on an accepted step; the first stage and
+        // balance kept from its end are used if the time is still theirs
+        // (a caller that changed the state calls `state_changed`)
         self.no_grow = false;
         super::stepping::advance(self, sys, ws, t, y, t_end)
     }
+}
+
+/// A 64-bit fingerprint (FNV-1a over the bits) of the numbers `point`, as
+/// two exact integers.
+fn fingerprint(point: &[f64]) -> [f64; 2] {
+    let h = point.iter().fold(0xcbf2_9ce4_8422_2325_u64, |h, x| {
+        (h ^ x.to_bits()).wrapping_mul(0x0000_0100_0000_01b3)
+    });
+    [(h >> 32) as f64, (h & 0xffff_ffff) as f64]
 }
 
 /// The earlier stages `done` with their coefficients `coef(j)`, zero
@@ -548,11 +679,13 @@ impl<Sys: StiffSystem> EmbeddedMethod<Sys> for Rosenbrock<Sys> {
 
     fn take_step(&mut self, y: &mut [f64]) {
         y.copy_from_slice(&self.stage);
+        std::mem::swap(&mut self.f_start, &mut self.f_end);
+        self.f_start_at = self.f_end_at;
         self.balance = self.trial_balance;
     }
 
     fn state_changed(&mut self) {
-        self.balance = None;
+        Rosenbrock::state_changed(self);
     }
 
     /// Embedded order 2: the error scales as h^3.

@@ -245,6 +245,13 @@ struct Block {
     // centre, summed over the pulleys, and that of the pulley at hand
     otq: [f64; OWN_COL],
     cmq: [f64; OWN_COL],
+    // only in the evaluation that also takes the stored energy
+    // ([`BeltSystem::rhs_energy`]): the elastic energy of the contacts of
+    // body j with the pulley at hand and of its creep spring, and that of
+    // SDE k
+    en_q: [f64; OWN_COL],
+    cr_q: [f64; OWN_COL],
+    esde: [f64; SDE_COL],
 }
 
 // The layout the loops rely on (see [`Block`]).
@@ -256,6 +263,7 @@ const _: () = assert!(
         && std::mem::offset_of!(Block, rec_q) % 64 == 0
         && std::mem::offset_of!(Block, otq) % 64 == 0
         && std::mem::offset_of!(Block, cmq) % 64 == 0
+        && std::mem::offset_of!(Block, esde) % 64 == 0
 );
 
 impl Block {
@@ -309,6 +317,9 @@ impl Block {
             rec_q: [[0.0; 9]; OWN_COL],
             otq: B,
             cmq: B,
+            en_q: B,
+            cr_q: B,
+            esde: S,
         }
     }
 
@@ -513,9 +524,10 @@ fn sum4(cols: [&[f64]; 4], len: usize) -> [f64; 4] {
 /// columns. Built for the damper terms the drive has: the axial ones
 /// ([`AxialSde::force_dissipation`]) and the torsional one
 /// ([`TorsionalSde::moment_dissipation`]; without it the SDE's dissipation
-/// is the axial damper's alone).
+/// is the axial damper's alone). With `ENERGY` also the SDE's elastic
+/// energy ([`AxialSde::energy`], [`TorsionalSde::energy`]) to `esde`.
 #[inline(always)]
-fn sde_loop<const ALONG: bool, const ACROSS: bool, const BENDING: bool>(
+fn sde_loop<const ALONG: bool, const ACROSS: bool, const BENDING: bool, const ENERGY: bool>(
     b: &mut Block,
     axial: AxialSde,
     bend: TorsionalSde,
@@ -537,7 +549,70 @@ fn sde_loop<const ALONG: bool, const ACROSS: bool, const BENDING: bool>(
         b.torque_cur[k] = t_cur - moment;
         b.torque_prev[k] = t_prev + moment;
         b.diss[k] = if BENDING { diss + bend_diss } else { diss };
+        if ENERGY {
+            // the elastic energy of both springs, beside their forces
+            b.esde[k] = axial.energy(d[0] * d[0] + d[1] * d[1]) + bend.energy(dphi);
+        }
     }
+}
+
+/// What the blocks of [`BeltSystem::rhs_energy`] sum of the stored energy.
+#[derive(Clone, Copy, Debug, Default)]
+struct BlockEnergy {
+    /// Kinetic energy of the bodies [J].
+    kinetic: f64,
+    /// Elastic energy of the SDEs and contacts [J].
+    elastic: f64,
+    /// Energy of the creep springs [J].
+    creep: f64,
+    /// Sum of the body centres' heights [m].
+    height: f64,
+}
+
+impl BlockEnergy {
+    /// Adds the contact and creep-spring energies of the bodies `lo..end`
+    /// (a contact arc, padded; the lanes outside hold zeros).
+    #[inline(always)]
+    fn add_contacts(&mut self, b: &Block, lo: usize, end: usize) {
+        self.elastic += sum(&b.en_q[lo..end]);
+        self.creep += sum(&b.cr_q[lo..end]);
+    }
+}
+
+/// Over the bodies m = 1..=len of a block: the sums of v^2, omega^2 and the
+/// height y, in four interleaved partial sums.
+#[inline(always)]
+fn body_sums(b: &Block, len: usize) -> [f64; 3] {
+    let (vx, vy, w, y) = (&b.vx[1..=len], &b.vy[1..=len], &b.w[1..=len], &b.y[1..=len]);
+    let full = len & !3;
+    fn fours(c: &[f64], full: usize) -> &[[f64; 4]] {
+        c[..full].as_chunks::<4>().0
+    }
+    let chunks = |c| fours(c, full);
+    let (mut av, mut aw, mut ay) = ([0.0; 4], [0.0; 4], [0.0; 4]);
+    for (((vx, vy), w), y) in chunks(vx)
+        .iter()
+        .zip(chunks(vy))
+        .zip(chunks(w))
+        .zip(chunks(y))
+    {
+        let lanes = av.iter_mut().zip(&mut aw).zip(&mut ay);
+        for (((av, aw), ay), ((vx, vy), (w, y))) in
+            lanes.zip(vx.iter().zip(vy).zip(w.iter().zip(y)))
+        {
+            *av += vx * vx + vy * vy;
+            *aw += w * w;
+            *ay += y;
+        }
+    }
+    let mut rest = [0.0; 3];
+    for j in full..len {
+        rest[0] += vx[j] * vx[j] + vy[j] * vy[j];
+        rest[1] += w[j] * w[j];
+        rest[2] += y[j];
+    }
+    let total = |[a0, a1, a2, a3]: [f64; 4], r: f64| (a0 + a1) + (a2 + a3) + r;
+    [total(av, rest[0]), total(aw, rest[1]), total(ay, rest[2])]
 }
 
 /// Sum in four interleaved partial sums (vectorises).
@@ -891,12 +966,29 @@ impl BeltSystem {
         dy: &mut [f64],
         rec: &mut R,
     ) {
-        self.rhs_with(Isa::detected(), ws, t, y, dy, rec);
+        self.rhs_with::<R, false>(Isa::detected(), ws, t, y, dy, rec);
     }
 
-    /// [`Self::rhs`] compiled for `isa` (the baseline if the CPU lacks it).
+    /// [`Self::rhs`] (the same `dy` to the last bit) and, in the same pass
+    /// over the bodies, the stored energy of `y` (as
+    /// [`Self::stored_energy`], to round-off): each SDE's and contact's
+    /// energy beside its force, the creep springs' from the contact's
+    /// elastic force, the bodies' kinetic energy from their velocities. A
+    /// build of its own: [`Self::rhs`] does none of this work.
+    pub fn rhs_energy(
+        &self,
+        ws: &mut Workspace,
+        t: f64,
+        y: &[f64],
+        dy: &mut [f64],
+    ) -> StoredEnergy {
+        self.rhs_with::<NoRecord, true>(Isa::detected(), ws, t, y, dy, &mut NoRecord)
+    }
+
+    /// [`Self::rhs`] (`ENERGY`: [`Self::rhs_energy`]) compiled for `isa`
+    /// (the baseline if the CPU lacks it).
     #[inline]
-    fn rhs_with<R: Recorder>(
+    fn rhs_with<R: Recorder, const ENERGY: bool>(
         &self,
         isa: Isa,
         ws: &mut Workspace,
@@ -904,15 +996,17 @@ impl BeltSystem {
         y: &[f64],
         dy: &mut [f64],
         rec: &mut R,
-    ) {
+    ) -> StoredEnergy {
         simd::dispatch_wide(
             isa,
             (ws, dy, rec),
             #[inline(always)]
-            move |(ws, dy, rec)| self.rhs_impl::<R, false>(ws, t, y, dy, rec, false),
+            move |(ws, dy, rec)| self.rhs_impl::<R, false, ENERGY>(ws, t, y, dy, rec, false),
             #[inline(always)]
-            move |(ws, dy, rec)| self.rhs_impl::<R, true>(ws, t, y, dy, rec, isa == Isa::Avx512),
-        );
+            move |(ws, dy, rec)| {
+                self.rhs_impl::<R, true, ENERGY>(ws, t, y, dy, rec, isa == Isa::Avx512)
+            },
+        )
     }
 
     /// [`Self::rhs`] compiled for one instruction set, if the CPU has it
@@ -931,8 +1025,25 @@ impl BeltSystem {
         if !build.available() {
             return false;
         }
-        self.rhs_with(build, ws, t, y, dy, rec);
+        self.rhs_with::<R, false>(build, ws, t, y, dy, rec);
         true
+    }
+
+    /// [`Self::rhs_energy`] compiled for one instruction set, if the CPU
+    /// has it (None if not); for the tests. Not part of the model's
+    /// interface.
+    #[doc(hidden)]
+    pub fn rhs_energy_build(
+        &self,
+        build: Isa,
+        ws: &mut Workspace,
+        t: f64,
+        y: &[f64],
+        dy: &mut [f64],
+    ) -> Option<StoredEnergy> {
+        build
+            .available()
+            .then(|| self.rhs_with::<NoRecord, true>(build, ws, t, y, dy, &mut NoRecord))
     }
 
     /// `WIDE`: compiled into a build with AVX (the layout conversions then
@@ -940,7 +1051,7 @@ impl BeltSystem {
     /// after the CPU check, set it. `pad`: the body loops run on to a
     /// multiple of [`PAD`] (the AVX-512 build, see [`Self::block`]).
     #[inline(always)]
-    fn rhs_impl<R: Recorder, const WIDE: bool>(
+    fn rhs_impl<R: Recorder, const WIDE: bool, const ENERGY: bool>(
         &self,
         ws: &mut Workspace,
         t: f64,
@@ -948,7 +1059,7 @@ impl BeltSystem {
         dy: &mut [f64],
         rec: &mut R,
         pad: bool,
-    ) {
+    ) -> StoredEnergy {
         let n = self.n;
         let np = self.np;
         assert!(y.len() >= self.dim() && dy.len() >= self.dim());
@@ -971,6 +1082,9 @@ impl BeltSystem {
         // force of the belt on each pulley's hub
         let mut hub = [[0.0; 2]; MAX_PULLEYS];
         let mut p_diss = 0.0;
+        // with ENERGY: the bodies' kinetic energy, the SDEs' and contacts'
+        // elastic energy, the creep springs' energy, the bodies' heights
+        let mut energy = BlockEnergy::default();
 
         let mut i0 = 0;
         while i0 < n {
@@ -982,10 +1096,25 @@ impl BeltSystem {
                 belt_torque: &mut belt_torque,
                 hub: &mut hub,
             };
-            p_diss += self.block::<R, WIDE>(blk, pulleys, i0, len, first, y, dy, state, rec, pad);
+            p_diss += self.block::<R, WIDE, ENERGY>(
+                blk,
+                pulleys,
+                i0,
+                len,
+                first,
+                y,
+                dy,
+                state,
+                rec,
+                pad,
+                &mut energy,
+            );
             i0 += len;
             if i0 < n {
                 blk.carry(len);
+                if ENERGY {
+                    blk.esde[0] = blk.esde[len];
+                }
             }
         }
 
@@ -1059,13 +1188,18 @@ impl BeltSystem {
         if R::ACTIVE {
             rec.power(p_in, p_diss);
         }
+        if ENERGY {
+            self.stored_energy_of(energy, y)
+        } else {
+            StoredEnergy::default()
+        }
     }
 
     /// Bodies `i0..i0 + len` of the right-hand side (see [`Self::rhs`]).
     /// Returns the power dissipated in their contacts and left SDEs.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
-    fn block<R: Recorder, const WIDE: bool>(
+    fn block<R: Recorder, const WIDE: bool, const ENERGY: bool>(
         &self,
         b: &mut Block,
         pulleys: &[PulleyConst; MAX_PULLEYS],
@@ -1077,6 +1211,7 @@ impl BeltSystem {
         state: PulleyState,
         rec: &mut R,
         pad: bool,
+        energy: &mut BlockEnergy,
     ) -> f64 {
         let PulleyState {
             omega: omega_p,
@@ -1139,17 +1274,24 @@ impl BeltSystem {
         // without bending damping (both) the torsional damper
         let ks = k0..k_end;
         match (axial.damper_terms(), bend.damped()) {
-            ((true, true), true) => sde_loop::<true, true, true>(b, axial, bend, ks),
-            ((true, false), true) => sde_loop::<true, false, true>(b, axial, bend, ks),
-            ((false, true), true) => sde_loop::<false, true, true>(b, axial, bend, ks),
-            ((false, false), true) => sde_loop::<false, false, true>(b, axial, bend, ks),
-            ((true, true), false) => sde_loop::<true, true, false>(b, axial, bend, ks),
-            ((true, false), false) => sde_loop::<true, false, false>(b, axial, bend, ks),
-            ((false, true), false) => sde_loop::<false, true, false>(b, axial, bend, ks),
-            ((false, false), false) => sde_loop::<false, false, false>(b, axial, bend, ks),
+            ((true, true), true) => sde_loop::<true, true, true, ENERGY>(b, axial, bend, ks),
+            ((true, false), true) => sde_loop::<true, false, true, ENERGY>(b, axial, bend, ks),
+            ((false, true), true) => sde_loop::<false, true, true, ENERGY>(b, axial, bend, ks),
+            ((false, false), true) => sde_loop::<false, false, true, ENERGY>(b, axial, bend, ks),
+            ((true, true), false) => sde_loop::<true, true, false, ENERGY>(b, axial, bend, ks),
+            ((true, false), false) => sde_loop::<true, false, false, ENERGY>(b, axial, bend, ks),
+            ((false, true), false) => sde_loop::<false, true, false, ENERGY>(b, axial, bend, ks),
+            ((false, false), false) => sde_loop::<false, false, false, ENERGY>(b, axial, bend, ks),
         }
         // dissipation of SDEs i0..i0 + len (each counted in its own block)
         p_diss += sum(&b.diss[..len]);
+        if ENERGY {
+            // their elastic energy; the bodies' kinetic energy and heights
+            energy.elastic += sum(&b.esde[..len]);
+            let [v2, w2, height] = body_sums(b, len);
+            energy.kinetic += 0.5 * self.mass * v2 + 0.5 * self.inertia * w2;
+            energy.height += height;
+        }
         if R::ACTIVE {
             rec.belt_loss(sum(&b.diss[..len]));
             for k in 0..len {
@@ -1189,9 +1331,9 @@ impl BeltSystem {
             // contact along the body: one scalar loop for both)
             let (torque, diss, on_bodies) = with_law!(self.friction, law => {
                 if along {
-                    self.contacts_along(b, i0, len, q, pc, c, omega_p[q], rec, &law)
+                    self.contacts_along::<R, ENERGY>(b, i0, len, q, pc, c, omega_p[q], rec, &law, energy)
                 } else {
-                    self.contacts(b, i0, len, q, pc, c, surface, rec, &law)
+                    self.contacts::<R, ENERGY>(b, i0, len, q, pc, c, surface, rec, &law, energy)
                 }
             });
             belt_torque[q] -= torque; // eq. 24
@@ -1228,7 +1370,7 @@ impl BeltSystem {
     /// power, and the sum of the contact forces on the bodies.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
-    fn contacts<R: Recorder>(
+    fn contacts<R: Recorder, const ENERGY: bool>(
         &self,
         b: &mut Block,
         i0: usize,
@@ -1239,6 +1381,7 @@ impl BeltSystem {
         surface: f64,
         rec: &mut R,
         friction: &impl Law,
+        energy: &mut BlockEnergy,
     ) -> (f64, f64, [f64; 2]) {
         // the bodies lo..hi span every body inside the circle (usually one
         // arc); the rest of the block is skipped
@@ -1248,7 +1391,7 @@ impl BeltSystem {
         // columns of bodies lo..hi (separate slices: no aliasing, no bounds
         // checks, the loop vectorises)
         let end = lo + padded(hi - lo);
-        contact_arc(
+        contact_arc::<ENERGY>(
             self,
             pc,
             centre,
@@ -1268,8 +1411,12 @@ impl BeltSystem {
             &mut b.cdz[lo..end],
             &mut b.torque_q[lo..end],
             &mut b.diss_q[lo..end],
+            [&mut b.en_q[lo..end], &mut b.cr_q[lo..end]],
             R::ACTIVE.then_some(&mut b.rec_q[lo..end]),
         );
+        if ENERGY {
+            energy.add_contacts(b, lo, end);
+        }
         collect_arc(b, i0, q, lo, hi, false, rec)
     }
 
@@ -1281,7 +1428,7 @@ impl BeltSystem {
     /// bodies are added to `otq`.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
-    fn contacts_along<R: Recorder>(
+    fn contacts_along<R: Recorder, const ENERGY: bool>(
         &self,
         b: &mut Block,
         i0: usize,
@@ -1292,6 +1439,7 @@ impl BeltSystem {
         omega: f64,
         rec: &mut R,
         law: &impl Law,
+        energy: &mut BlockEnergy,
     ) -> (f64, f64, [f64; 2]) {
         let Some((lo, hi)) = arc_range(b, len, centre, pc.reach * pc.reach) else {
             return (0.0, 0.0, [0.0; 2]);
@@ -1315,16 +1463,20 @@ impl BeltSystem {
             moment: &mut b.cmq[lo..end],
             torque: &mut b.torque_q[lo..end],
             diss: &mut b.diss_q[lo..end],
+            energy: [&mut b.en_q[lo..end], &mut b.cr_q[lo..end]],
             rec: R::ACTIVE.then_some(&mut b.rec_q[lo..end]),
         };
         let valid = hi - lo;
         // one build of the lane loop per point count (the points unrolled)
         match self.points {
-            2 => contact_along_arc::<2>(self, pc, centre, omega, law, valid, body, out),
-            3 => contact_along_arc::<3>(self, pc, centre, omega, law, valid, body, out),
-            4 => contact_along_arc::<4>(self, pc, centre, omega, law, valid, body, out),
-            5 => contact_along_arc::<5>(self, pc, centre, omega, law, valid, body, out),
+            2 => contact_along_arc::<2, ENERGY>(self, pc, centre, omega, law, valid, body, out),
+            3 => contact_along_arc::<3, ENERGY>(self, pc, centre, omega, law, valid, body, out),
+            4 => contact_along_arc::<4, ENERGY>(self, pc, centre, omega, law, valid, body, out),
+            5 => contact_along_arc::<5, ENERGY>(self, pc, centre, omega, law, valid, body, out),
             k => unreachable!("contact.points = {k} along the body"),
+        }
+        if ENERGY {
+            energy.add_contacts(b, lo, end);
         }
         collect_arc(b, i0, q, lo, hi, true, rec)
     }
@@ -1474,7 +1626,12 @@ impl BeltSystem {
     /// (as the `energy.dissipated` output); the creep springs' energy is
     /// part of the stored energy, so it drops out.
     pub fn energy_balance(&self, y: &[f64]) -> EnergyBalance {
-        let e = self.stored_energy(y);
+        self.balance_of(y, self.stored_energy(y))
+    }
+
+    /// [`Self::energy_balance`] of state `y` with its stored energy `e`
+    /// (from [`Self::stored_energy`] or [`Self::rhs_energy`]).
+    pub fn balance_of(&self, y: &[f64], e: StoredEnergy) -> EnergyBalance {
         let o = self.energy_offset();
         EnergyBalance {
             balance: y[o] - y[o + 1] - e.kinetic - (e.potential - e.creep),
@@ -1541,6 +1698,26 @@ impl BeltSystem {
             }
             (prev, prev_angle) = (cur, b[2]);
         }
+        self.with_pulleys(kin, elastic, creep, gravity, y)
+    }
+
+    /// The stored energy from the blocks' sums of [`Self::rhs_energy`].
+    fn stored_energy_of(&self, e: BlockEnergy, y: &[f64]) -> StoredEnergy {
+        let gravity = self.mass * self.gravity * e.height;
+        self.with_pulleys(e.kinetic, e.elastic, e.creep, gravity, y)
+    }
+
+    /// [`StoredEnergy`] from the belt's kinetic, elastic (SDEs and
+    /// contacts), creep-spring and gravity energy, with the pulleys',
+    /// decoupler rotors' and tensioner arms' energy of state `y` added.
+    fn with_pulleys(
+        &self,
+        mut kin: f64,
+        elastic: f64,
+        creep: f64,
+        gravity: f64,
+        y: &[f64],
+    ) -> StoredEnergy {
         let belt = kin + elastic + creep;
         let mut pot = elastic + creep + gravity;
         for j in 0..self.np {
@@ -1596,7 +1773,7 @@ pub struct StoredEnergy {
 /// checks and vectorises.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn contact_arc(
+fn contact_arc<const ENERGY: bool>(
     sys: &BeltSystem,
     pc: &PulleyConst,
     centre: &[f64; 4],
@@ -1609,9 +1786,12 @@ fn contact_arc(
     dz: &mut [f64],
     torque: &mut [f64],
     diss: &mut [f64],
+    energy: [&mut [f64]; 2],
     mut rec: Option<&mut [[f64; 9]]>,
 ) {
     let k = ofx.len();
+    let [en, cr] = energy;
+    let (en, cr) = (&mut en[..k], &mut cr[..k]);
     let [xs, ys, vxs, vys, zs, zfs] = body;
     let (xs, ys, vxs, vys, zs, zfs) = (
         &xs[..k],
@@ -1661,6 +1841,13 @@ fn contact_arc(
         dz[i] = keep(friction.creep_rate(kin.v_t, z));
         torque[i] = keep(lever * f); // eq. 24
         diss[i] = keep(contact::dissipation(&kin, normal, elastic, f));
+        if ENERGY {
+            // the contact's elastic energy beside its force, and its creep
+            // spring's: the elastic normal force times the spring energy
+            // per newton (elements::friction)
+            en[i] = keep(law.energy(kin.p));
+            cr[i] = keep(elastic * friction.spring_energy(z, mu_s * zf, mu_k * zf));
+        }
         if let Some(r) = rec.as_deref_mut() {
             // the contact's share of the belt's loss: its normal damper and
             // friction slip; and the power its creep spring stores (the
@@ -1703,6 +1890,9 @@ struct ArcOut<'a> {
     moment: &'a mut [f64],
     torque: &'a mut [f64],
     diss: &'a mut [f64],
+    /// With the stored energy: the contacts' elastic energy and the creep
+    /// spring's.
+    energy: [&'a mut [f64]; 2],
     rec: Option<&'a mut [[f64; 9]]>,
 }
 
@@ -1716,7 +1906,7 @@ struct ArcOut<'a> {
 /// with no point inside writes zeros.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn contact_along_arc<const K: usize>(
+fn contact_along_arc<const K: usize, const ENERGY: bool>(
     sys: &BeltSystem,
     pc: &PulleyConst,
     centre: &[f64; 4],
@@ -1733,9 +1923,11 @@ fn contact_along_arc<const K: usize>(
         moment,
         torque,
         diss,
+        energy: [en, cr],
         mut rec,
     } = out;
     let k = ofx.len();
+    let (en, cr) = (&mut en[..k], &mut cr[..k]);
     let [xs, ys, vxs, vys, ws, zs, hxs, hys, zfs] = body;
     let (xs, ys, vxs, vys, ws, zs, hxs, hys, zfs) = (
         &xs[..k],
@@ -1790,6 +1982,7 @@ fn contact_along_arc<const K: usize>(
         let (mut snormal, mut sfric, mut selastic, mut selastic_rate, mut sslip) =
             (0.0, 0.0, 0.0, 0.0, 0.0);
         let (mut se, mut sev, mut count, mut sv) = (0.0, 0.0, 0.0, 0.0);
+        let mut s_energy = 0.0;
         let mut p_max = f64::MIN;
         // the points unrolled by hand (LLVM keeps a loop over four or five
         // of them, and a loop inside stops the lanes' loop vectorising)
@@ -1817,6 +2010,10 @@ fn contact_along_arc<const K: usize>(
                     sev += keep(pt.elastic * pt.kin.v_t);
                     count += keep(1.0);
                     sv += keep(pt.kin.v_t);
+                    if ENERGY {
+                        // the point's elastic energy beside its force
+                        s_energy += keep(laws[g].energy(pt.kin.p));
+                    }
                 }
             };
         }
@@ -1835,6 +2032,12 @@ fn contact_along_arc<const K: usize>(
         moment[i] = keep(smom);
         torque[i] = keep(stq); // eq. 24
         diss[i] = keep(sdiss);
+        if ENERGY {
+            // the creep spring's energy: the elastic normal force summed
+            // over the points times the spring energy per newton
+            en[i] = keep(s_energy);
+            cr[i] = keep(selastic * friction.spring_energy(b.z, pulley.mu_s, pulley.mu_k));
+        }
         if let Some(r) = rec.as_deref_mut() {
             // the contact's share of the belt's loss (normal dampers and
             // friction slip) and the power its creep spring stores
