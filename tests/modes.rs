@@ -352,15 +352,17 @@ fn running_span_mode_is_the_axially_moving_strings() {
 /// each other and the pair's eigenvectors mix). For each span k the lowest
 /// lightly damped (zeta < 0.1) mode labelled `span k transverse` must be
 /// within 5 % of that span's moving string at its period-mean tension (the
-/// tolerance of the moving-string check above). Measured: 15.510, 12.533
-/// and 20.779 Hz against 15.475, 12.505 and 20.805 Hz (+0.22, +0.23,
-/// -0.12 %; T = 120.3, 121.9, 121.6 N, v = 6.98 m/s), 55-65 % of each
-/// mode's energy in its span.
+/// tolerance of the moving-string check above). Measured: 15.594, 12.591
+/// and 20.927 Hz against 15.502, 12.517 and 20.779 Hz (+0.59, +0.59,
+/// +0.71 %; T = 120.6, 122.1, 121.5 N, v = 6.98 m/s), 53-56 % of each
+/// mode's energy in its span, orbit defect 4.2e-4.
 ///
 /// This drive's running state is unstable (span 2 transverse at 28-31 Hz,
-/// zeta -0.08 to -0.11 on the orbits below, and weaker ones), so its
-/// settling does not reach
-/// [`PERIODIC`]: within each extrapolation's 30 periods the period-to-period
+/// zeta -0.08 to -0.11 on the orbits below, and weaker ones), so whether
+/// its settling reaches [`PERIODIC`] depends on the step sequence (the
+/// present code: 5.5e-3, 1.7e-3, then 4.2e-4 analysed; the orbits below
+/// were measured with the energy check evaluated apart from the right-hand
+/// side, another step sequence): within each extrapolation's 30 periods the period-to-period
 /// difference grows 6-20 fold from its first period (the body velocities
 /// on the spans and the free pulleys' speeds), and the first periods'
 /// defects stall at 1.4-3.4e-3 (with the run-up as the stiff method's energy
@@ -1556,8 +1558,12 @@ fn accessory_running_rotational_mode_rings_in_the_time_domain() {
 /// exponential the time-domain rate from one settled state is 19.5-21.3/s
 /// with RKF45 and the stiff method, with its energy check and without, at
 /// relTol 1e-6 and 1e-8 (-7.9 to +0.5 % of the Floquet analysis' 21.1/s;
-/// 18.1-19.5/s at 1e-4). Measured: -0.0183 predicted (183.6 Hz), -0.0170
-/// from the growth over 0.142-0.273 s (-7.2 %, 19.6/s).
+/// 18.1-19.5/s at 1e-4). Measured: -0.0184 predicted (183.6 Hz), -0.0159
+/// from the growth over 0.054-0.273 s (-13.5 %, 18.35/s): the orbit's
+/// residual is 6.4e-7 m here, and the first windows above 1e-6 m
+/// (1.3-2.1e-6 m) still grow slowly; from 2.8e-6 m on the growth is
+/// 23/s. With another step sequence (residual 3.4e-7 m) the fit began at
+/// 0.142 s and gave -7.2 %.
 fn span_growth_is_the_floquet_damping(m: &Modes, mut drive: Drive) {
     let unstable = m
         .modes
