@@ -16,44 +16,11 @@
 use belt_drive::belt::drive::Integrator;
 use belt_drive::belt::params::Method;
 use belt_drive::belt::{Drive, DriveParams, Inputs};
-use belt_drive::fmi::FmuModel;
-use belt_drive::fmu::variables::{by_name, VarType};
-use belt_drive::fmu::BeltDrive;
 
-/// A parameter set of `parameters/` applied through the FMU adapter.
-fn parameter_set(file: &str) -> DriveParams {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("parameters")
-        .join(file);
-    let text = std::fs::read_to_string(&path).expect("parameter set");
-    let mut m = BeltDrive::new();
-    for p in model_description::ssv::read(&text).expect("valid .ssv") {
-        let v = by_name(&p.name).expect("known variable");
-        match v.ty {
-            VarType::Real => m.set_real(v, p.value.parse().unwrap()),
-            VarType::Integer => m.set_integer(v, p.value.parse().unwrap()),
-            VarType::Boolean => m.set_boolean(v, p.value == "true"),
-            _ => Ok(()),
-        }
-        .expect("value accepted");
-    }
-    m.drive_params().expect("valid set")
-}
-
-fn sixty() -> DriveParams {
-    let mut p = DriveParams::default();
-    p.belt.n_bodies = 60;
-    p.belt.preload = 300.0;
-    p.probe_body = 0;
-    p.pulleys[0].radius = 0.05;
-    p.pulleys[1].radius = 0.05;
-    p.pulleys[1].x = 0.25;
-    p.pulleys[0].torque_ramp = -2.0;
-    p.pulleys[0].ramp_time = 0.05;
-    p.pulleys[1].load_damping = 0.05;
-    p.pulleys[1].ramp_time = 0.05;
-    p
-}
+#[path = "common/sixty_body.rs"]
+mod sixty_body;
+#[path = "common/ssv.rs"]
+mod ssv;
 
 fn heavy() -> DriveParams {
     let mut p = DriveParams::default();
@@ -81,11 +48,11 @@ fn main() {
     };
     let tol: f64 = a.get(2).map_or(1e-4, |v| v.parse().unwrap());
     let (mut p, t0, t1) = match name {
-        "sixty" => (sixty(), 0.3, 0.5),
+        "sixty" => (sixty_body::sixty_body_drive(), 0.3, 0.5),
         "heavy" => (heavy(), 0.2, 0.3),
         "5pk" => (DriveParams::default(), 0.35, 0.6),
         "tensioner" => {
-            let mut p = parameter_set("accessory-drive-tensioner.ssv");
+            let mut p = ssv::from_ssv("accessory-drive-tensioner.ssv");
             // the set's step guard is the FMU's per-communication-step bound
             p.solver.max_steps = DriveParams::default().solver.max_steps;
             (p, 0.6, 0.8)

@@ -1,5 +1,6 @@
 //! The 60-body drive of `tests/defaults.rs` (`integrators_agree_on_a_sixty_body_drive`),
-//! shared by examples/wrap_profile.rs and examples/landing_energy.rs: included
+//! shared by examples/wrap_profile.rs, examples/landing_energy.rs and
+//! examples/stiff_energy.rs: included
 //! with `#[path]`, so each keeps one definition.
 
 use belt_drive::belt::DriveParams;

@@ -1,5 +1,5 @@
 //! A drive from a parameter file of parameters/ (.ssv), set through the FMU's
-//! own variables: shared by examples/mesh_study.rs and
+//! own variables: shared by examples/mesh_study.rs, examples/stiff_energy.rs and
 //! examples/wrap_profile.rs (included with `#[path]`, one definition).
 
 use std::path::Path;
