@@ -17,26 +17,12 @@ use belt_drive::belt::drive::Integrator;
 use belt_drive::belt::params::Method;
 use belt_drive::belt::{Drive, DriveParams, Inputs};
 
+#[path = "common/heavy_belt.rs"]
+mod heavy_belt;
 #[path = "common/sixty_body.rs"]
 mod sixty_body;
 #[path = "common/ssv.rs"]
 mod ssv;
-
-fn heavy() -> DriveParams {
-    let mut p = DriveParams::default();
-    p.belt.n_bodies = 120;
-    p.belt.mass_per_length = 0.3;
-    p.probe_body = 0;
-    p.pulleys[0].radius = 0.06;
-    p.pulleys[0].speed_driven = true;
-    p.pulleys[0].omega_ramp = -150.0;
-    p.pulleys[0].torque_ramp = 0.0;
-    p.pulleys[0].ramp_time = 0.1;
-    p.pulleys[1].x = 0.35;
-    p.pulleys[1].load_damping = 0.01;
-    p.pulleys[1].ramp_time = 0.1;
-    p
-}
 
 fn main() {
     let a: Vec<String> = std::env::args().skip(1).collect();
@@ -49,7 +35,7 @@ fn main() {
     let tol: f64 = a.get(2).map_or(1e-4, |v| v.parse().unwrap());
     let (mut p, t0, t1) = match name {
         "sixty" => (sixty_body::sixty_body_drive(), 0.3, 0.5),
-        "heavy" => (heavy(), 0.2, 0.3),
+        "heavy" => (heavy_belt::heavy_belt_drive(), 0.2, 0.3),
         "5pk" => (DriveParams::default(), 0.35, 0.6),
         "tensioner" => {
             let mut p = ssv::from_ssv("accessory-drive-tensioner.ssv");
