@@ -8,10 +8,11 @@
 //! more").
 //!
 //! `cargo run --profile ci --example wrap_profile -- [5pk|2to1|accessory|sixty|heavy]
-//! [bodies] [bin width, degrees] [contact.points] [solver.method] [solver.relTol]`
+//! [bodies] [bin width, degrees] [contact.points] [solver.method] [solver.relTol] [off]`
 //! (the drive's own `contact.points` when not given or 0; the stiff method
 //! (2) at relTol 1e-5, absTol 1e-7 when not given; a given relTol keeps the
-//! default absTol, as the tests run). `sixty` is the 60-body drive of
+//! default absTol, as the tests run; `off` runs the stiff method without
+//! its energy check). `sixty` is the 60-body drive of
 //! `tests/defaults.rs` (`integrators_agree_on_a_sixty_body_drive`), `heavy`
 //! the heavy-belt drive of `tests/python/test_mean_forces.py`.
 //!
@@ -105,6 +106,7 @@ fn main() {
     p.solver.max_steps = u64::MAX;
     let np = p.pulleys.len();
     let mut d = Drive::new(&p, 0.0).expect("parameters");
+    d.set_energy_check(a.get(6).map(String::as_str) != Some("off"));
     let l = d.layout().body_length;
     d.advance(t0).expect("advance");
     let o0 = d.outputs();
