@@ -312,7 +312,7 @@ fn main() {
                         .join(" / ");
                     let theory = creep_theory(&t, p.belt.ea);
                     eprintln!(
-                        "{} {n} bodies: {loss:.4?} %, creep theory {theory}, {steps} steps, {wall:.0} s",
+                        "{} {n} bodies: {loss:.4?} %, span tensions {tensions} N, creep theory {theory} %, {steps} steps, {wall:.0} s",
                         s.name
                     );
                     rows.push((n, loss, tensions, theory, steps, wall));
