@@ -747,6 +747,13 @@ fn floquet_modes(
             out.above_limit += 1;
             continue;
         }
+        // the eigenvector as a state perturbation, its largest component 1
+        let big = vec
+            .iter()
+            .copied()
+            .max_by(|a, b| a.norm().total_cmp(&b.norm()))
+            .unwrap_or(c64::new(1.0, 0.0));
+        let shape: Vec<c64> = vec.iter().map(|&x| x / big).collect();
         // Described without the bodies' spin: the L-stable method has
         // damped the artificial pitching modes away (they end as
         // overdamped or above the frequency limit), and
@@ -766,6 +773,7 @@ fn floquet_modes(
             part,
             share,
             shares,
+            shape,
         });
     }
     out.modes

@@ -153,6 +153,13 @@ pub struct Mode {
     /// Share of the mode's kinetic energy in each part of the drive
     /// ([`energies`]), largest first.
     pub shares: Vec<(Part, f64)>,
+    /// The Floquet analysis' eigenvector: the perturbation of the drive's
+    /// state at the analysed instant (in the state's order) that returns
+    /// multiplied by the mode's Floquet multiplier after one period (the
+    /// state shifted by one body), scaled so that its largest component is
+    /// 1; `Re(shape)` kicks the drive along the mode. Empty from the
+    /// analysis about one instant ([`analyse`]).
+    pub shape: Vec<faer::c64>,
 }
 
 /// Share of a mode's kinetic energy from which a pulley's rotation or an
@@ -466,6 +473,7 @@ pub fn analyse(lin: &Linearisation, opts: &Options) -> Result<Modes, String> {
             part,
             share,
             shares: shares(lin, &regions, &vec, opts.transport),
+            shape: Vec::new(),
         });
     }
     out.modes
