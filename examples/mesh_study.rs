@@ -129,6 +129,18 @@ fn run(p: &DriveParams, window: (f64, f64)) -> Result<(Vec<f64>, Vec<f64>, u64, 
     Ok((omega, tens, d.stats().steps, start.elapsed().as_secs_f64()))
 }
 
+/// Rigid-adhesion creep theory's speed loss of a two-pulley drive from the
+/// run's own mean span tensions, (T_t - T_s) / (EA + T_t) in % (the belt
+/// arrives on each pulley in stick, at the strain of the span it comes
+/// from); "-" on a drive of more pulleys.
+fn creep_theory(tensions: &[f64], ea: f64) -> String {
+    let [a, b] = tensions else {
+        return "-".into();
+    };
+    let (t, s) = (a.max(*b), a.min(*b));
+    format!("{:.4}", 100.0 * (t - s) / (ea + t))
+}
+
 /// The three drives of the study, with their averaging windows and meshes.
 fn studies() -> Vec<Study> {
     vec![
@@ -298,11 +310,12 @@ fn main() {
                         .map(|x| format!("{x:.1}"))
                         .collect::<Vec<_>>()
                         .join(" / ");
+                    let theory = creep_theory(&t, p.belt.ea);
                     eprintln!(
-                        "{} {n} bodies: {loss:.4?} %, {steps} steps, {wall:.0} s",
+                        "{} {n} bodies: {loss:.4?} %, span tensions {tensions} N, creep theory {theory} %, {steps} steps, {wall:.0} s",
                         s.name
                     );
-                    rows.push((n, loss, tensions, steps, wall));
+                    rows.push((n, loss, tensions, theory, steps, wall));
                 }
                 Err(e) => println!("{n} bodies: {e}"),
             }
@@ -319,13 +332,13 @@ fn main() {
             continue;
         };
         println!(
-            "| bodies | l / r_min | speed loss vs pulley 1 [%] | error | span tensions [N] | steps | wall [s] |"
+            "| bodies | l / r_min | speed loss vs pulley 1 [%] | error | span tensions [N] | creep theory [%] | steps | wall [s] |"
         );
-        println!("|---|---|---|---|---|---|---|");
-        for (n, loss, tensions, steps, wall) in &rows {
+        println!("|---|---|---|---|---|---|---|---|");
+        for (n, loss, tensions, theory, steps, wall) in &rows {
             let (l, e) = loss_and_error(loss, &reference);
             println!(
-                "| {n} | {:.3} | {l} | {e} | {tensions} | {steps} | {wall:.0} |",
+                "| {n} | {:.3} | {l} | {e} | {tensions} | {theory} | {steps} | {wall:.0} |",
                 length_ratio(&p, *n)
             );
         }

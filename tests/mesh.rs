@@ -50,6 +50,106 @@ fn speed_loss(p: &DriveParams, t0: f64, t1: f64) -> f64 {
     1.0 - (w[1] * p.pulleys[1].radius).abs() / (w[0] * p.pulleys[0].radius).abs()
 }
 
+/// [`speed_loss`] and the mean tensions of the two spans, tight first (50
+/// samples over the window, as `mesh_study` takes them).
+fn speed_loss_and_tensions(p: &DriveParams, t0: f64, t1: f64) -> (f64, [f64; 2]) {
+    let mut p = p.clone();
+    p.solver.method = Method::Rosenbrock;
+    p.solver.rel_tol = 1e-5;
+    p.solver.abs_tol = 1e-7;
+    p.solver.max_steps = u64::MAX;
+    let mut d = Drive::new(&p, 0.0).expect("valid drive");
+    d.advance(t0).expect("runs");
+    let a0 = [d.outputs().pulleys[0].angle, d.outputs().pulleys[1].angle];
+    let samples = 50;
+    let mut tension = [0.0; 2];
+    for k in 1..=samples {
+        d.advance(t0 + (t1 - t0) * k as f64 / samples as f64)
+            .expect("runs");
+        for (m, t) in tension.iter_mut().enumerate() {
+            *t += d.outputs().span_tension[m] / samples as f64;
+        }
+    }
+    let o = d.outputs();
+    let w = [
+        (o.pulleys[0].angle - a0[0]) / (t1 - t0),
+        (o.pulleys[1].angle - a0[1]) / (t1 - t0),
+    ];
+    let loss = 1.0 - (w[1] * p.pulleys[1].radius).abs() / (w[0] * p.pulleys[0].radius).abs();
+    let [a, b] = tension;
+    (loss, [a.max(b), a.min(b)])
+}
+
+/// Rigid-adhesion creep theory's speed loss from span tensions (tight,
+/// slack): the belt arrives on each pulley in stick at the strain of the span
+/// it comes from, 1 - (1 + T_s / EA) / (1 + T_t / EA).
+fn creep_theory(p: &DriveParams, [tight, slack]: [f64; 2]) -> f64 {
+    (tight - slack) / (p.belt.ea + tight)
+}
+
+/// How far below rigid creep theory the creep a belt brings onto its
+/// driving pulley can put the slip (docs/validation.md, "A small Delta_max:
+/// the creep the belt brings onto a wrap"). The penalty contact lets the
+/// straight belt enter the pulley's circle over s_c = sqrt(2 rho p0) (p0
+/// the penetration under the arriving tension T, rho = r - p0) at the angle
+/// s / rho, so that it falls behind the surface by at most the integral of (s / rho)^2 / 2,
+/// z_e = s_c^3 / (6 rho^2) (the straight line's value; the belt bends onto
+/// the pulley over that length and was measured to bring 2.7-4.1 um of the
+/// 8 um this gives on the 5PK drive). The creep law carries that as friction
+/// from the entry on: the belt creeps back over the creep length
+/// lambda = sqrt(EA Delta_max r / (1.5 mu_s T)) and sheds EA z_e / lambda
+/// of tension before its adhesion arc, whose strain, lower by z_e / lambda,
+/// sets the slip. Returns z_e / lambda.
+fn entry_creep_margin(p: &DriveParams, driver: usize, arriving: f64) -> f64 {
+    let q = &p.pulleys[driver];
+    let r = q.radius;
+    // the contact law per unit length: c1 p^2 + c2 p = T / r
+    let (c1, c2) = (p.contact.c1, p.contact.c2);
+    let n = arriving / r;
+    let p0 = 2.0 * n / (c2 + (c2 * c2 + 4.0 * c1 * n).sqrt());
+    let rho = r - p0;
+    let z_e = (2.0 * rho * p0).powf(1.5) / (6.0 * rho * rho);
+    let mu_s = if q.groove_angle > 0.0 {
+        q.mu_static / (0.5 * q.groove_angle).sin()
+    } else {
+        q.mu_static
+    };
+    let lambda = (p.belt.ea * p.friction.creep_max * r / (1.5 * mu_s * arriving)).sqrt();
+    z_e / lambda
+}
+
+/// The slip `loss` (and the drive's mesh-converged slip, when given) not
+/// below rigid creep theory from the run's own span tensions by more than
+/// [`entry_creep_margin`] of the driving pulley (pulley 1, onto which the
+/// tight span runs).
+fn assert_not_below_creep_theory(
+    name: &str,
+    p: &DriveParams,
+    loss: f64,
+    converged: Option<f64>,
+    t: [f64; 2],
+) {
+    let theory = creep_theory(p, t);
+    let margin = entry_creep_margin(p, 0, t[0]);
+    println!(
+        "{name}: span tensions {:.1} / {:.1} N, creep theory {:.4} %, entry-creep margin {:.4} points: \
+         bound {:.4} %, slip {:.4} %",
+        t[0],
+        t[1],
+        100.0 * theory,
+        100.0 * margin,
+        100.0 * (theory - margin),
+        100.0 * loss
+    );
+    for (what, x) in [("slip", Some(loss)), ("converged slip", converged)] {
+        let Some(x) = x else { continue };
+        assert!(
+            x >= theory - margin,
+            "{name}: {what} {x} below creep theory {theory} by more than the entry creep's {margin}"
+        );
+    }
+}
+
 /// With no load the belt transmits no force, so a continuous belt turns the
 /// pulleys at the radius ratio: omega_2 r_2 = omega_1 r_1. A chain of
 /// straight bodies of length l = 0.2 x the small radius (120 bodies) with
@@ -76,7 +176,9 @@ fn unloaded_unequal_pulleys_turn_at_the_radius_ratio() {
 #[test]
 fn unequal_pulleys_slip_within_ten_percent_of_converged() {
     let converged = CONVERGED_2TO1;
-    let loss = speed_loss(&two_to_one(240), 0.4, 1.0);
+    let p = two_to_one(240);
+    let (loss, tensions) = speed_loss_and_tensions(&p, 0.4, 1.0);
+    assert_not_below_creep_theory("2:1 drive, 240 bodies", &p, loss, Some(converged), tensions);
     println!(
         "2:1 drive, 240 bodies: speed loss {:.4} % against converged {:.3} %",
         100.0 * loss,
@@ -99,7 +201,8 @@ fn equal_pulleys_slip_within_ten_percent_of_converged() {
     let mut p = DriveParams::kubas_section4();
     p.belt.n_bodies = 300;
     p.probe_body = 0;
-    let loss = speed_loss(&p, 0.6, 1.2);
+    let (loss, tensions) = speed_loss_and_tensions(&p, 0.6, 1.2);
+    assert_not_below_creep_theory("5PK drive, 300 bodies", &p, loss, Some(converged), tensions);
     println!(
         "5PK drive, 300 bodies: speed loss {:.4} % against converged {:.3} %",
         100.0 * loss,
@@ -148,4 +251,28 @@ fn contact_along_the_body_slip_within_ten_percent_at_practical_meshes() {
             "{name}: {loss} vs {converged}"
         );
     }
+}
+
+/// The paper's 5PK drive with a tenth of its Delta_max (`friction.creepMax`
+/// 10 um) at 1200 bodies, the landing resolved (docs/validation.md, "A
+/// small Delta_max: the creep the belt brings onto a wrap"): the slip lies
+/// 0.042 points (12 %) below rigid creep theory, all of it the creep the
+/// belt brings through the contact's entry, and it must not lie lower than
+/// [`entry_creep_margin`] (0.145 points) says that can put it. About 5 min
+/// of wall time: `cargo test --profile ci --test mesh -- --ignored`.
+#[test]
+#[ignore]
+fn small_creep_max_slip_not_below_creep_theory_beyond_the_entry_creep() {
+    let mut p = DriveParams::kubas_section4();
+    p.belt.n_bodies = 1200;
+    p.probe_body = 0;
+    p.friction.creep_max *= 0.1;
+    let (loss, tensions) = speed_loss_and_tensions(&p, 0.6, 1.2);
+    assert_not_below_creep_theory(
+        "5PK drive, Delta_max / 10, 1200 bodies",
+        &p,
+        loss,
+        None,
+        tensions,
+    );
 }
