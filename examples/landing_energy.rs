@@ -5,9 +5,10 @@
 //! the dissipated energy less the change of the stored energy, is summed by
 //! the step's relation to the bodies' landings on the pulleys.
 //!
-//! `cargo run --profile ci --example landing_energy -- [bodies] [solver.method]`
-//! (60 bodies and the stiff method (2) when not given; relTol 1e-4, means
-//! over 0.3-0.5 s).
+//! `cargo run --profile ci --example landing_energy -- [bodies] [solver.method] [contact.points] [off]`
+//! (60 bodies, the stiff method (2) and the drive's own contact points (`-`)
+//! when not given; relTol 1e-4, means over 0.3-0.5 s; `off` runs the stiff
+//! method without its energy check).
 
 use belt_drive::belt::params::Method;
 use belt_drive::belt::system::{BeltSystem, Recorder, Workspace};
@@ -62,8 +63,12 @@ fn main() {
     p.probe_body = 0;
     p.solver.method = method;
     p.solver.rel_tol = 1e-4;
+    if let Some(k) = a.get(2).filter(|k| k.as_str() != "-") {
+        p.contact.points = k.parse().unwrap();
+    }
     let (t0, t1) = (0.3, 0.5);
     let mut d = Drive::new(&p, 0.0).expect("parameters");
+    d.set_energy_check(a.get(3).map(String::as_str) != Some("off"));
     d.advance(t0).expect("advance");
     let sys = d.system().clone();
     let mut ws = Workspace::new();
@@ -117,7 +122,8 @@ fn main() {
     }
     let all = sums[4];
     println!(
-        "60-body drive, {n} bodies, {method:?} at relTol 1e-4, {t0}-{t1} s: {} steps, energy residual {:.3} W",
+        "60-body drive, {n} bodies, contact.points {}, {method:?} at relTol 1e-4, {t0}-{t1} s: {} steps, energy residual {:.3} W",
+        p.contact.points,
         d.stats().steps - steps0,
         all[2] / (t1 - t0)
     );

@@ -7,12 +7,15 @@
 //! `cargo run --profile ci --example stiff_energy -- DRIVE [METHOD] [RELTOL] [POINTS] [off]`
 //! with DRIVE `sixty` (the 60-body drive of tests/defaults.rs, 0.3-0.5 s),
 //! `heavy` (the heavy belt of tests/python/test_mean_forces.py, 0.2-0.3 s),
-//! `5pk` (the FMU's default drive, 0.35-0.6 s) or `tensioner`
+//! `5pk` (the FMU's default drive, 0.35-0.6 s), `accessory`
+//! (parameters/accessory-drive-4.ssv as tests/defaults.rs runs it, 0.4-0.6
+//! s) or `tensioner`
 //! (parameters/accessory-drive-tensioner.ssv as it ships, 0.6-0.8 s, as
 //! tests/python/test_tensioner.py); METHOD 1 (RKF45) or 2 (the stiff
 //! method, default); RELTOL 1e-4 by default; POINTS the contact points
 //! along a body (`-` or absent: the drive's own); `off` runs the stiff
-//! method without its energy check.
+//! method without its energy check. Further arguments `shear=F` and
+//! `bend=B` set `belt.shearDampingFactor` and `belt.bendingDamping`.
 use belt_drive::belt::drive::Integrator;
 use belt_drive::belt::params::Method;
 use belt_drive::belt::{Drive, DriveParams, Inputs};
@@ -37,6 +40,15 @@ fn main() {
         "sixty" => (sixty_body::sixty_body_drive(), 0.3, 0.5),
         "heavy" => (heavy_belt::heavy_belt_drive(), 0.2, 0.3),
         "5pk" => (DriveParams::default(), 0.35, 0.6),
+        "accessory" => {
+            // as tests/defaults.rs runs it: the crank ramp shortened to 0.2 s
+            let mut p = ssv::from_ssv("accessory-drive-4.ssv");
+            p.solver.max_steps = DriveParams::default().solver.max_steps;
+            for q in &mut p.pulleys {
+                q.ramp_time = 0.2;
+            }
+            (p, 0.4, 0.6)
+        }
         "tensioner" => {
             let mut p = ssv::from_ssv("accessory-drive-tensioner.ssv");
             // the set's step guard is the FMU's per-communication-step bound
@@ -47,6 +59,13 @@ fn main() {
     };
     if let Some(k) = a.get(3).filter(|k| k.as_str() != "-") {
         p.contact.points = k.parse().unwrap();
+    }
+    for v in &a {
+        if let Some(f) = v.strip_prefix("shear=") {
+            p.belt.shear_damping_factor = f.parse().unwrap();
+        } else if let Some(b) = v.strip_prefix("bend=") {
+            p.belt.bending_damping = b.parse().unwrap();
+        }
     }
     p.solver.method = method;
     p.solver.rel_tol = tol;
@@ -59,6 +78,7 @@ fn main() {
     let n = ((t1 - t0) / 1e-3f64).round() as usize;
     let mut st = vec![0.0; np];
     let mut dt = vec![0.0; np];
+    let mut sl = vec![0.0; np];
     let mut last = o0.clone();
     for k in 1..=n {
         d.advance(t0 + k as f64 * 1e-3).unwrap();
@@ -66,6 +86,7 @@ fn main() {
         for j in 0..np {
             st[j] += last.span_tension[j] / n as f64;
             dt[j] += last.pulleys[j].mean_drive_torque / n as f64;
+            sl[j] += 100.0 * last.pulleys[j].slip / n as f64;
         }
     }
     let om: Vec<f64> = (0..np)
@@ -76,11 +97,12 @@ fn main() {
     };
     let s = d.stats();
     print!(
-        "{name}, {method:?} at {tol:e}: {} steps, {} rejected | speeds {:.4?} rad/s | span tensions {:.3?} N | mean drive torques {:.4?} N m | balance drift {:.4} W",
+        "{name}, {method:?} at {tol:e}: {} steps, {} rejected | speeds {:.4?} rad/s | span tensions {:.3?} N | slips {:.4?} % | mean drive torques {:.4?} N m | balance drift {:.4} W",
         s.steps,
         s.rejected,
         om,
         st,
+        sl,
         dt,
         (bal(&last) - bal(&o0)) / (t1 - t0)
     );

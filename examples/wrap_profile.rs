@@ -9,11 +9,12 @@
 //!
 //! `cargo run --profile ci --example wrap_profile -- [5pk|2to1|accessory|sixty|heavy]
 //! [bodies] [bin width, degrees] [contact.points] [solver.method] [solver.relTol]
-//! [NAME*FACTOR...]` (NAME one of friction.creepMax, contact.c1, contact.c2; relTol `-`:
+//! [NAME*FACTOR...] [off]` (NAME one of friction.creepMax, contact.c1, contact.c2; relTol `-`:
 //! the default)
 //! (the drive's own `contact.points` when not given or 0; the stiff method
 //! (2) at relTol 1e-5, absTol 1e-7 when not given; a given relTol keeps the
-//! default absTol, as the tests run). `sixty` is the 60-body drive of
+//! default absTol, as the tests run; `off` runs the stiff method without
+//! its energy check). `sixty` is the 60-body drive of
 //! `tests/defaults.rs` (`integrators_agree_on_a_sixty_body_drive`), `heavy`
 //! the heavy-belt drive of `tests/python/test_mean_forces.py`.
 //!
@@ -106,7 +107,7 @@ fn main() {
     }
     p.solver.max_steps = u64::MAX;
     // NAME*FACTOR after the tolerance: a creep-law parameter scaled
-    for scaling in a.iter().skip(6) {
+    for scaling in a.iter().skip(6).filter(|v| v.as_str() != "off") {
         let (name, factor) = scaling.split_once('*').expect("NAME*FACTOR");
         let factor: f64 = factor.parse().expect("FACTOR");
         match name {
@@ -118,6 +119,7 @@ fn main() {
     }
     let np = p.pulleys.len();
     let mut d = Drive::new(&p, 0.0).expect("parameters");
+    d.set_energy_check(!a.iter().skip(6).any(|v| v == "off"));
     let l = d.layout().body_length;
     d.advance(t0).expect("advance");
     let o0 = d.outputs();
