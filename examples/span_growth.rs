@@ -8,10 +8,15 @@
 //!
 //! ```text
 //! cargo run --profile ci --features modes --example span_growth -- \
-//!     --ssv parameters/accessory-drive-4.ssv --speed 84 --set solver.method=2 \
-//!     --set solver.relTol=1e-6 --set solver.absTol=1e-8 [--at 0.8] [--substeps 128,256] \
-//!     [--cycles 6] [--modes 3] [--kick 1e-6] [--run 0.2]
+//!     --ssv parameters/accessory-drive-4.ssv --set solver.method=2 [--speed W] [--at 0.8] \
+//!     [--substeps 128,256] [--cycles 6] [--modes 3] [--kick 1e-6] [--run 0.2]
 //! ```
+//!
+//! `--speed`: the crank's speed [rad/s] (default: the set's); `--at`: the
+//! end of the run-up (default: the ramp time + 0.3 s); `--cycles`: most
+//! extrapolations of the settling (at least the analysis' own);
+//! `--kick`: the largest body displacement of the kick [m]; `--run`: how
+//! long each mode is followed [s].
 use belt_drive::modes::{adapter, floquet, params, Options, Part};
 
 #[path = "common/span_growth.rs"]
@@ -19,7 +24,7 @@ mod span_growth;
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let (mut ssv, mut sets, mut speed, mut at) = (None, Vec::new(), 84.0_f64, None);
+    let (mut ssv, mut sets, mut speed, mut at) = (None, Vec::new(), None, None);
     let (mut subs, mut cycles, mut count, mut kick, mut run) =
         (vec![128usize], floquet::SETTLE_CYCLES, 3usize, 1e-6, 0.2);
     let mut i = 0;
@@ -28,7 +33,7 @@ fn main() {
         match args[i].as_str() {
             "--ssv" => ssv = Some(std::path::PathBuf::from(v)),
             "--set" => sets.push(v.clone()),
-            "--speed" => speed = v.parse().unwrap(),
+            "--speed" => speed = Some(v.parse::<f64>().unwrap()),
             "--at" => at = Some(v.parse::<f64>().unwrap()),
             "--substeps" => subs = v.split(',').map(|x| x.parse().unwrap()).collect(),
             "--cycles" => cycles = v.parse().unwrap(),
@@ -40,8 +45,10 @@ fn main() {
         i += 2;
     }
     let mut p = params::drive_params(ssv.as_deref(), &sets).unwrap();
-    // the crank's speed, in the direction the set drives it
-    p.pulleys[0].omega_ramp = speed.copysign(p.pulleys[0].omega_ramp);
+    // the crank's speed if given, in the direction the set drives it
+    if let Some(w) = speed {
+        p.pulleys[0].omega_ramp = w.copysign(p.pulleys[0].omega_ramp);
+    }
     let at = at.unwrap_or(p.pulleys[0].ramp_time + 0.3);
     let t0 = std::time::Instant::now();
     let mut drive = adapter::build(&p).unwrap();
