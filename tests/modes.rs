@@ -1671,8 +1671,9 @@ fn accessory_running_rotational_mode_rings_in_the_time_domain() {
 /// growth at all at 4 points.)
 /// Tolerance 10 %: what limits the agreement is the analysis' own
 /// convergence in the substeps of its variational integration (this mode's
-/// zeta moves 0.1 % between 128 and 256 steps at 4 points, 3.4 % for the
-/// centre contact's span 3 mode; docs/modes.md) and the fit (the rates over
+/// zeta moves 0.1 % between 128 and 256 steps at 4 points, 7 % for the
+/// centre contact's span 3 mode, -0.0173 / -0.0186; docs/modes.md,
+/// "Convergence in the substeps") and the fit (the rates over
 /// the first and the second half of the windows differ by 2.5 %; no
 /// window's log amplitude lies more than 0.06 from the line).
 /// Measured: -0.0085 predicted (368.59 Hz, span 3), -0.0085 from the growth
