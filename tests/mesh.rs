@@ -33,26 +33,19 @@ fn two_to_one(n_bodies: usize) -> DriveParams {
 /// method at relTol 1e-5 (the study's; it gives RKF45's slip within 0.0002
 /// points on these drives, docs/validation.md).
 fn speed_loss(p: &DriveParams, t0: f64, t1: f64) -> f64 {
-    let mut p = p.clone();
-    p.solver.method = Method::Rosenbrock;
-    p.solver.rel_tol = 1e-5;
-    p.solver.abs_tol = 1e-7;
-    p.solver.max_steps = u64::MAX;
-    let mut d = Drive::new(&p, 0.0).expect("valid drive");
-    d.advance(t0).expect("runs");
-    let a0 = [d.outputs().pulleys[0].angle, d.outputs().pulleys[1].angle];
-    d.advance(t1).expect("runs");
-    let o = d.outputs();
-    let w = [
-        (o.pulleys[0].angle - a0[0]) / (t1 - t0),
-        (o.pulleys[1].angle - a0[1]) / (t1 - t0),
-    ];
-    1.0 - (w[1] * p.pulleys[1].radius).abs() / (w[0] * p.pulleys[0].radius).abs()
+    speed_loss_sampled(p, t0, t1, 1).0
 }
 
 /// [`speed_loss`] and the mean tensions of the two spans, tight first (50
 /// samples over the window, as `mesh_study` takes them).
 fn speed_loss_and_tensions(p: &DriveParams, t0: f64, t1: f64) -> (f64, [f64; 2]) {
+    let (loss, [a, b]) = speed_loss_sampled(p, t0, t1, 50);
+    (loss, [a.max(b), a.min(b)])
+}
+
+/// The speed loss over [t0, t1] and the two spans' tensions averaged over
+/// `samples` communication points spread evenly over the window.
+fn speed_loss_sampled(p: &DriveParams, t0: f64, t1: f64, samples: usize) -> (f64, [f64; 2]) {
     let mut p = p.clone();
     p.solver.method = Method::Rosenbrock;
     p.solver.rel_tol = 1e-5;
@@ -61,11 +54,14 @@ fn speed_loss_and_tensions(p: &DriveParams, t0: f64, t1: f64) -> (f64, [f64; 2])
     let mut d = Drive::new(&p, 0.0).expect("valid drive");
     d.advance(t0).expect("runs");
     let a0 = [d.outputs().pulleys[0].angle, d.outputs().pulleys[1].angle];
-    let samples = 50;
     let mut tension = [0.0; 2];
     for k in 1..=samples {
-        d.advance(t0 + (t1 - t0) * k as f64 / samples as f64)
-            .expect("runs");
+        let t = if k == samples {
+            t1
+        } else {
+            t0 + (t1 - t0) * k as f64 / samples as f64
+        };
+        d.advance(t).expect("runs");
         for (m, t) in tension.iter_mut().enumerate() {
             *t += d.outputs().span_tension[m] / samples as f64;
         }
@@ -76,8 +72,7 @@ fn speed_loss_and_tensions(p: &DriveParams, t0: f64, t1: f64) -> (f64, [f64; 2])
         (o.pulleys[1].angle - a0[1]) / (t1 - t0),
     ];
     let loss = 1.0 - (w[1] * p.pulleys[1].radius).abs() / (w[0] * p.pulleys[0].radius).abs();
-    let [a, b] = tension;
-    (loss, [a.max(b), a.min(b)])
+    (loss, tension)
 }
 
 /// Rigid-adhesion creep theory's speed loss from span tensions (tight,
