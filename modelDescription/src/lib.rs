@@ -22,6 +22,7 @@ mod generate;
 pub mod guid;
 mod parse;
 pub mod platform;
+pub mod registry;
 pub mod ssv;
 
 pub use check::{check, effective_initial};

@@ -145,7 +145,7 @@ impl BeltDrive {
         // (`friction.zoneStart`, `probe.body`, 0 = chosen automatically) by
         // `params::body_number`. The adapter decodes only the FMI codes
         // (`friction.law`, `solver.method`), with the codes listed once
-        // (`param_variables.rs`) and explained by the variable's description.
+        // (the registry, `modelDescription/src/registry/table.rs`) and explained by the variable's description.
         // The Real parameters go to the core as they are:
         // `DriveParams::validate` checks their declared ranges (the same
         // table, `Param::declared`), for FMU and library users alike.

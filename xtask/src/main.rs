@@ -21,6 +21,8 @@
 //! * `bench [--full] [--quick] [--core N] [--no-docs]` - the benchmark suites
 //!   (`benches/belt.rs`, `benches/stiff.rs`); rewrites the generated part of
 //!   `docs/benchmarks.md` (see `bench.rs`).
+//! * `model-description` - writes `modelDescription/modelDescription.xml`
+//!   from the registry (`modelDescription/src/registry/table.rs`).
 //! * `modes -- [--ssv FILE] [--set NAME=VALUE ...] [--speeds FROM:TO:N] [--at TIME]`:
 //!   the modal analysis (`examples/modes.rs`), `dist/modes.csv` and, with
 //!   `--speeds`, the Campbell diagram `dist/campbell.png` (docs/modes.md).
@@ -396,6 +398,17 @@ fn valgrind_with(profile: &str) -> Result<()> {
     )
 }
 
+/// Writes `modelDescription/modelDescription.xml` from the registry
+/// (`modelDescription/src/registry/table.rs`), after checking it.
+fn model_description() -> Result<()> {
+    let text = model_description::registry::model_description();
+    model_description::compile(&text)?;
+    let path = root().join("modelDescription/modelDescription.xml");
+    fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+    eprintln!("xtask: wrote {}", path.display());
+    Ok(())
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let result = match args.first().map(String::as_str) {
@@ -410,8 +423,9 @@ fn main() {
         Some("bench") => bench::bench(&args[1..]),
         Some("modes") => modes(&args[1..]),
         Some("sweep") => sweep(&args[1..]),
+        Some("model-description") => model_description(),
         _ => Err(
-            "usage: cargo xtask <fmu|venv|run|validate|crosscheck|fmi-sim|test|valgrind|bench|sweep|modes>"
+            "usage: cargo xtask <fmu|venv|run|validate|crosscheck|fmi-sim|test|valgrind|bench|sweep|modes|model-description>"
                 .into(),
         ),
     };
