@@ -19,7 +19,7 @@
 
 use super::simd::{self, Isa};
 use super::solver_params::TUNING;
-use super::stepping::{EmbeddedMethod, StepControl};
+use super::stepping::{EmbeddedMethod, StepControl, Trial};
 pub use super::stepping::{OdeSystem, Stats, StepFailure};
 
 const C: [f64; 6] = [0.0, 0.25, 0.375, 12.0 / 13.0, 1.0, 0.5];
@@ -281,8 +281,38 @@ impl Rkf45 {
         y: &mut [f64],
         t_end: f64,
     ) -> Result<(), StepFailure> {
+        self.advance_observed(sys, ws, t, y, t_end, &mut |_: &Self, _: Trial| {})
+    }
+
+    /// [`Self::advance`] with `observe` told of every trial step
+    /// ([`super::stepping::advance_observed`]; diagnostics).
+    pub fn advance_observed<S: OdeSystem>(
+        &mut self,
+        sys: &S,
+        ws: &mut S::Workspace,
+        t: &mut f64,
+        y: &mut [f64],
+        t_end: f64,
+        observe: &mut dyn FnMut(&Self, Trial),
+    ) -> Result<(), StepFailure> {
         self.err_at_call = self.err_accepted;
-        super::stepping::advance(self, sys, ws, t, y, t_end)
+        super::stepping::advance_observed(self, sys, ws, t, y, t_end, observe)
+    }
+
+    /// Diagnostics of the last trial step of size `h` from `y` (an
+    /// observer's [`Trial`]): writes each component's weighted error
+    /// `e_i / w_i` to `out` (the error norm is their RMS over the first
+    /// `controlled_dim` components) and the trial's end state to `end`.
+    /// Not on the integration's path.
+    pub fn error_components(&self, y: &[f64], h: f64, out: &mut [f64], end: &mut [f64]) {
+        let [k1, _, k3, k4, k5, k6] = &self.k;
+        end.copy_from_slice(&self.tmp);
+        for (i, o) in out.iter_mut().enumerate() {
+            let err =
+                h * (E[0] * k1[i] + E[2] * k3[i] + E[3] * k4[i] + E[4] * k5[i] + E[5] * k6[i]);
+            let w = self.abs_tol + self.rel_tol * y[i].abs().max(self.tmp[i].abs());
+            *o = err / w;
+        }
     }
 }
 
@@ -500,6 +530,28 @@ mod tests {
             .unwrap();
         assert_eq!(ya[0].to_bits(), yb[0].to_bits());
         assert!(!b.load(&[]) && !b.load(&[f64::NAN]) && !b.load(&[2.0]));
+    }
+
+    /// The observer sees every trial, accepted and rejected, with the error
+    /// norm the step control used: the RMS of the components it is given.
+    #[test]
+    fn observer_sees_every_trial_and_its_error_components() {
+        let mut rk = Rkf45::new(2, 1e-9, 1e-9, 0.5, 100_000);
+        let (mut y, mut t) = ([1.0, 0.0], 0.0);
+        let (mut trials, mut max_gap) = (0u64, 0.0f64);
+        let (mut comps, mut end) = ([0.0; 2], [0.0; 2]);
+        rk.advance_observed(&Osc, &mut (), &mut t, &mut y, 1.0, &mut |m, tr| {
+            trials += 1;
+            m.error_components(tr.y, tr.h, &mut comps, &mut end);
+            let rms = ((comps[0] * comps[0] + comps[1] * comps[1]) / 2.0).sqrt();
+            max_gap = max_gap.max((rms - tr.err).abs() / tr.err.max(1e-300));
+        })
+        .unwrap();
+        let s = rk.control.stats;
+        assert!(s.rejected > 0, "the first step (0.5 s) is rejected: {s:?}");
+        assert_eq!(trials, s.steps + s.rejected);
+        assert!(max_gap < 1e-12, "{max_gap:e}");
+        assert_eq!(end, y, "the last trial's end state is the result");
     }
 
     #[test]

@@ -18,7 +18,7 @@
 
 use super::simd::{self, Isa};
 use super::solver_params::TUNING;
-use super::stepping::{EmbeddedMethod, OdeSystem, StepControl, StepFailure};
+use super::stepping::{EmbeddedMethod, OdeSystem, StepControl, StepFailure, Trial};
 
 /// An ODE whose Jacobian (or an approximation of it) can be formed and whose
 /// iteration matrix `I - c J` can be factored and solved.
@@ -568,6 +568,12 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
             }
         };
         self.trial_balance = Some(end);
+        self.energy_ratio(start, end)
+    }
+
+    /// The energy error of a step from balance `start` to `end`
+    /// ([`Self::energy_error`]).
+    fn energy_ratio(&self, start: EnergyBalance, end: EnergyBalance) -> f64 {
         let r = end.balance - start.balance;
         // the balance's round-off: a few ulps of the terms it sums
         let roundoff =
@@ -589,11 +595,48 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
         y: &mut [f64],
         t_end: f64,
     ) -> Result<(), StepFailure> {
+        self.advance_observed(sys, ws, t, y, t_end, &mut |_: &Self, _: Trial| {})
+    }
+
+    /// [`Self::advance`] with `observe` told of every trial step
+    /// ([`super::stepping::advance_observed`]; diagnostics).
+    pub fn advance_observed(
+        &mut self,
+        sys: &Sys,
+        ws: &mut Sys::Workspace,
+        t: &mut f64,
+        y: &mut [f64],
+        t_end: f64,
+        observe: &mut dyn FnMut(&Self, Trial),
+    ) -> Result<(), StepFailure> {
         // every advance ends on an accepted step; the first stage and
         // balance kept from its end are used if the time is still theirs
         // (a caller that changed the state calls `state_changed`)
         self.no_grow = false;
-        super::stepping::advance(self, sys, ws, t, y, t_end)
+        super::stepping::advance_observed(self, sys, ws, t, y, t_end, observe)
+    }
+
+    /// Diagnostics of the last trial step from `y` (an observer's
+    /// [`Trial`]): writes each component's weighted error `mask e_i / w_i`
+    /// to `out` (the error norm is their RMS over the controlled
+    /// components) and the trial's end state to `end`, and returns the
+    /// step's energy error (0 where it was not taken: the check off, or the
+    /// step rejected on its error norm first). Not on the integration's
+    /// path: it repeats the trial's last loop.
+    pub fn error_components(&self, y: &[f64], out: &mut [f64], end: &mut [f64]) -> f64 {
+        let [u0, u1, u2, u3] = &self.u;
+        end.copy_from_slice(&self.stage);
+        for (i, o) in out.iter_mut().enumerate() {
+            let (s0, s1, s2, s3) = (u0[i], u1[i], u2[i], u3[i]);
+            let new = y[i] + (T.m[0] * s0 + T.m[1] * s1 + T.m[2] * s2 + T.m[3] * s3);
+            let err = T.e[0] * s0 + T.e[1] * s1 + T.e[2] * s2 + T.e[3] * s3;
+            let w = self.abs_tol + self.rel_tol * y[i].abs().max(new.abs());
+            *o = self.mask[i] * err / w;
+        }
+        match (self.balance, self.trial_balance) {
+            (Some(start), Some(end)) if self.energy_check => self.energy_ratio(start, end),
+            _ => 0.0,
+        }
     }
 }
 
@@ -991,6 +1034,54 @@ mod tests {
         );
         // the switch off: the error norm's step control alone, step for step
         assert_eq!(run_with(true, false), (unchecked, unchecked_steps, 0));
+    }
+
+    /// The observer sees every trial with the error norm the step control
+    /// used: the RMS of the components it is given, and the energy error
+    /// where that was larger (the oscillator's states are out of the norm,
+    /// so with the check on the energy error alone sets the step).
+    #[test]
+    fn observer_sees_every_trial_and_its_error_components() {
+        let f = |t: f64, y: &[f64], dy: &mut [f64]| {
+            dy[0] = y[1];
+            dy[1] = -y[0] - 0.5 * y[1] * y[1] + (2.0 * t).cos();
+        };
+        let sys = Dense {
+            n: 2,
+            f,
+            exact: true,
+        };
+        let mut ros = Rosenbrock::new(&sys, 1e-8, 1e-8, 0.5, 1_000_000);
+        let (mut y, mut t) = (vec![1.0, 0.0], 0.0);
+        let (mut trials, mut max_gap) = (0u64, 0.0f64);
+        let (mut comps, mut end) = (vec![0.0; 2], vec![0.0; 2]);
+        ros.advance_observed(&sys, &mut (), &mut t, &mut y, 1.0, &mut |m, tr| {
+            trials += 1;
+            assert_eq!(m.error_components(tr.y, &mut comps, &mut end), 0.0);
+            let rms = ((comps[0] * comps[0] + comps[1] * comps[1]) / 2.0).sqrt();
+            max_gap = max_gap.max((rms - tr.err).abs() / tr.err.max(1e-300));
+        })
+        .unwrap();
+        let s = ros.control.stats;
+        assert!(s.rejected > 0, "the first step (0.5 s) is rejected: {s:?}");
+        assert_eq!(trials, s.steps + s.rejected);
+        assert!(max_gap < 1e-12, "{max_gap:e}");
+        assert_eq!(end, y, "the last trial's end state is the result");
+
+        let sys = Oscillator { check: true };
+        let mut ros = Rosenbrock::new(&sys, 1e-6, 1e-6, 1e-3, 1_000_000);
+        let (mut y, mut t) = (vec![1.0, 0.0], 0.0);
+        let mut energy_set = 0u64;
+        ros.advance_observed(&sys, &mut (), &mut t, &mut y, 1.0, &mut |m, tr| {
+            let e = m.error_components(tr.y, &mut comps, &mut end);
+            assert_eq!(comps, [0.0, 0.0], "masked out of the norm");
+            if tr.err <= 1.0 {
+                assert_eq!(e, tr.err);
+                energy_set += 1;
+            }
+        })
+        .unwrap();
+        assert_eq!(energy_set, ros.control.stats.steps);
     }
 
     /// The AVX2 build of a trial step gives the baseline's state and error

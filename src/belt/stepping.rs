@@ -156,11 +156,47 @@ where
     S: OdeSystem + ?Sized,
     M: EmbeddedMethod<S>,
 {
+    advance_observed(method, sys, ws, t, y, t_end, &mut |_: &M, _: Trial| {})
+}
+
+/// One trial step as an observer of [`advance_observed`] sees it: the
+/// step's start (time, state), its size and scaled error norm (accepted
+/// when at most 1). The method still holds the trial's stages, so the
+/// observer can ask it for the error's components.
+#[derive(Clone, Copy, Debug)]
+pub struct Trial<'a> {
+    /// Start time of the trial step [s].
+    pub t: f64,
+    /// State at the start.
+    pub y: &'a [f64],
+    /// Step size tried [s].
+    pub h: f64,
+    /// Scaled error norm (accepted when at most 1; not finite when the step failed).
+    pub err: f64,
+}
+
+/// [`advance`] with `observe` called after every trial step, before it is
+/// taken or rejected: diagnostics (`examples/step_profile.rs`). The plain
+/// [`advance`] is this with an observer that does nothing, compiled away.
+pub fn advance_observed<S, M, O>(
+    method: &mut M,
+    sys: &S,
+    ws: &mut S::Workspace,
+    t: &mut f64,
+    y: &mut [f64],
+    t_end: f64,
+    observe: &mut O,
+) -> Result<(), StepFailure>
+where
+    S: OdeSystem + ?Sized,
+    M: EmbeddedMethod<S>,
+    O: FnMut(&M, Trial) + ?Sized,
+{
     let t_start = *t;
     let c = method.control();
     c.backup.copy_from_slice(y);
     let (h_start, last_step) = (c.h, c.stats.last_step);
-    let result = advance_inner(method, sys, ws, t, y, t_end);
+    let result = advance_inner(method, sys, ws, t, y, t_end, observe);
     if result.is_err() {
         let c = method.control();
         y.copy_from_slice(&c.backup);
@@ -172,17 +208,19 @@ where
     result
 }
 
-fn advance_inner<S, M>(
+fn advance_inner<S, M, O>(
     method: &mut M,
     sys: &S,
     ws: &mut S::Workspace,
     t: &mut f64,
     y: &mut [f64],
     t_end: f64,
+    observe: &mut O,
 ) -> Result<(), StepFailure>
 where
     S: OdeSystem + ?Sized,
     M: EmbeddedMethod<S>,
+    O: FnMut(&M, Trial) + ?Sized,
 {
     let mut steps = 0u64;
     let mut non_finite = 0u32;
@@ -200,6 +238,15 @@ where
             return Err(StepFailure::StepTooSmall { t: *t, h });
         }
         let err = method.trial(sys, ws, *t, y, h);
+        observe(
+            &*method,
+            Trial {
+                t: *t,
+                y: &*y,
+                h,
+                err,
+            },
+        );
         if !err.is_finite() {
             non_finite += 1;
             method.control().stats.rejected += 1;

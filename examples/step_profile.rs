@@ -1,0 +1,449 @@
+//! What limits the integrators' step on a running drive: accepted and
+//! rejected steps per simulated second, the step sizes, the Jacobians and
+//! factorizations of the stiff method, and for every trial step the state
+//! component whose weighted error is largest (grouped: body positions,
+//! angles, velocities, spins, creep states, pulleys, decouplers, tensioner
+//! arms), for a body where it lies (on a wrap, in a free span, or within a
+//! body or two of a landing or leaving point), and the steps the stiff
+//! method's energy check rejected.
+//!
+//! `cargo run --profile ci --example step_profile -- [DRIVE RPM METHOD ...]`
+//! with DRIVE one of `5pk` (the FMU's default drive), `acc4`
+//! (`parameters/accessory-drive-4.ssv`), `tens`
+//! (`parameters/accessory-drive-tensioner.ssv`), RPM the crank speed (the
+//! accessory sets' load torques held at their idle values: the load damping
+//! scaled by 800 / RPM; ignored for `5pk`), METHOD `stiff` or `rkf45`
+//! (relTol 1e-4). Without arguments it runs the table of docs/benchmarks.md
+//! ("What limits the step on the accessory drives"). Each run settles for 0.1 s after the speed
+//! ramp (0.5 s) and measures 0.1 s in 1 ms communication steps; the
+//! real-time factor is the CPU time of the plain `Drive::advance` over the
+//! same window (a clone of the drive; this machine's, not a benchmark).
+
+#[path = "common/ssv.rs"]
+mod ssv;
+
+use belt_drive::belt::drive::Integrator;
+use belt_drive::belt::params::Method;
+use belt_drive::belt::stepping::Trial;
+use belt_drive::belt::system::{BeltSystem, Workspace, BODY_DOF};
+use belt_drive::belt::{Drive, DriveParams};
+
+/// The measured window after the settling [s].
+const WINDOW: f64 = 0.1;
+/// Communication step [s].
+const COMM: f64 = 1e-3;
+
+fn cpu_time() -> f64 {
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: valid pointer to a timespec; the clock id is a constant.
+    unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
+    ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9
+}
+
+/// The drive `name` at crank speed `rpm` with `method` at relTol 1e-4.
+fn drive(name: &str, rpm: f64, method: Method) -> DriveParams {
+    let mut p = match name {
+        "5pk" => DriveParams::default(),
+        "acc4" => ssv::from_ssv("accessory-drive-4.ssv"),
+        "tens" => ssv::from_ssv("accessory-drive-tensioner.ssv"),
+        _ => panic!("drive {name}: 5pk, acc4 or tens"),
+    };
+    if name != "5pk" {
+        // the crank is speed-driven to 800 rpm in the sets; loads held at
+        // their idle torques
+        let idle = p.pulleys[0].omega_ramp;
+        let scale = rpm / 800.0;
+        p.pulleys[0].omega_ramp = idle * scale;
+        for q in &mut p.pulleys[1..] {
+            q.load_damping /= scale;
+        }
+    }
+    p.solver.method = method;
+    p.solver.rel_tol = 1e-4;
+    p
+}
+
+/// Where the worst component of a trial lies.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+enum Group {
+    BodyPosition,
+    BodyAngle,
+    BodyVelocity,
+    BodySpin,
+    Creep,
+    Pulley,
+    Decoupler,
+    ArmAngle,
+    ArmRate,
+    Energy,
+    Other,
+}
+
+const GROUPS: [Group; 11] = [
+    Group::BodyPosition,
+    Group::BodyAngle,
+    Group::BodyVelocity,
+    Group::BodySpin,
+    Group::Creep,
+    Group::Pulley,
+    Group::Decoupler,
+    Group::ArmAngle,
+    Group::ArmRate,
+    Group::Energy,
+    Group::Other,
+];
+
+/// A body's place: bodies from the nearest change of contact (0: the body
+/// itself lands or leaves: it touches and a neighbour does not, or the other
+/// way round; 1, 2: its neighbours; 3: farther), and whether it touches.
+fn place(sys: &BeltSystem, y: &[f64], k: usize) -> (usize, bool) {
+    let n = sys.n_bodies();
+    let centres: Vec<[f64; 2]> = (0..sys.n_pulleys())
+        .map(|j| sys.pulley_centre(j, y).0)
+        .collect();
+    let touch = |i: usize| sys.touching((i + n) % n, y, &centres);
+    let here = touch(k);
+    for d in 0..3 {
+        for i in [k + n - d, k + d] {
+            let (a, b) = (touch(i), touch(i + 1));
+            if a != b {
+                return (d, here.is_some());
+            }
+        }
+    }
+    (3, here.is_some())
+}
+
+#[derive(Default)]
+struct Profile {
+    accepted: u64,
+    rejected: u64,
+    /// Worst group of accepted / rejected trials (energy: rejected by the
+    /// energy check alone).
+    acc_group: [u64; 11],
+    rej_group: [u64; 11],
+    /// Bodies' worst components by distance to a contact change (0..=3),
+    /// accepted and rejected.
+    acc_place: [u64; 4],
+    rej_place: [u64; 4],
+    /// Step sizes of accepted steps, decades from 1e-8 s.
+    h_hist: [u64; 6],
+    h_sum: f64,
+    /// Trials over which some body lands or leaves (its contact changes
+    /// from start to end) [accepted, rejected on the norm, rejected on the
+    /// energy], and all of each kind.
+    with_change: [u64; 3],
+    of_kind: [u64; 3],
+    /// Accepted steps whose energy error exceeds the norm (the energy check
+    /// sets the next step).
+    energy_limited: u64,
+}
+
+/// Bodies whose contact changes between states `a` and `b`.
+fn contact_changes(sys: &BeltSystem, a: &[f64], b: &[f64]) -> usize {
+    let centres = |y: &[f64]| -> Vec<[f64; 2]> {
+        (0..sys.n_pulleys())
+            .map(|j| sys.pulley_centre(j, y).0)
+            .collect()
+    };
+    let (ca, cb) = (centres(a), centres(b));
+    (0..sys.n_bodies())
+        .filter(|&i| sys.touching(i, a, &ca) != sys.touching(i, b, &cb))
+        .count()
+}
+
+fn classify(sys: &BeltSystem, comps: &[f64]) -> (Group, usize) {
+    let nb = BODY_DOF * sys.n_bodies();
+    let (i, _) =
+        comps[..sys.controlled_dim()]
+            .iter()
+            .enumerate()
+            .fold((0, -1.0), |(bi, bv), (i, &v)| {
+                if v.abs() > bv {
+                    (i, v.abs())
+                } else {
+                    (bi, bv)
+                }
+            });
+    if i < nb {
+        let g = match i % BODY_DOF {
+            0 | 1 => Group::BodyPosition,
+            2 => Group::BodyAngle,
+            3 | 4 => Group::BodyVelocity,
+            5 => Group::BodySpin,
+            _ => Group::Creep,
+        };
+        return (g, i / BODY_DOF);
+    }
+    let e = sys.energy_offset();
+    let g = if i < e {
+        Group::Pulley
+    } else if i < e + 2 {
+        Group::Other
+    } else {
+        // decoupler states first, then the arms (BeltSystem::impulse_offset)
+        let nd = 2 * sys.n_decouplers();
+        if i < e + 2 + nd {
+            Group::Decoupler
+        } else if i < sys.impulse_offset(0) {
+            if (i - e - 2 - nd).is_multiple_of(2) {
+                Group::ArmAngle
+            } else {
+                Group::ArmRate
+            }
+        } else {
+            Group::Other
+        }
+    };
+    (g, usize::MAX)
+}
+
+impl Profile {
+    fn record(&mut self, sys: &BeltSystem, tr: &Trial, comps: &[f64], end: &[f64], energy: f64) {
+        let ok = tr.err <= 1.0;
+        let (mut g, body) = classify(sys, comps);
+        // the norm without the energy check
+        let q = sys.controlled_dim();
+        let norm = (comps[..q].iter().map(|c| c * c).sum::<f64>() / q as f64).sqrt();
+        if !ok && tr.err.is_finite() && norm <= 1.0 && energy > 1.0 {
+            g = Group::Energy;
+        }
+        let kind = match (ok, g) {
+            (true, _) => 0,
+            (false, Group::Energy) => 2,
+            _ => 1,
+        };
+        self.of_kind[kind] += 1;
+        if tr.err.is_finite() && contact_changes(sys, tr.y, end) > 0 {
+            self.with_change[kind] += 1;
+        }
+        if ok && energy > norm {
+            self.energy_limited += 1;
+        }
+        let gi = GROUPS.iter().position(|&x| x == g).unwrap();
+        if ok {
+            self.accepted += 1;
+            self.acc_group[gi] += 1;
+            let d = ((tr.h.log10() + 8.0).floor().clamp(0.0, 5.0)) as usize;
+            self.h_hist[d] += 1;
+            self.h_sum += tr.h;
+        } else {
+            self.rejected += 1;
+            self.rej_group[gi] += 1;
+        }
+        if body != usize::MAX && g != Group::Energy {
+            let (d, _) = place(sys, tr.y, body);
+            if ok {
+                self.acc_place[d] += 1;
+            } else {
+                self.rej_place[d] += 1;
+            }
+        }
+    }
+}
+
+/// Options `key=value` after the runs: `pMax=<m>` (contact.pMax),
+/// `energyCheck=0` (the stiff method's energy check off), `points=<n>`
+/// (contact.points), `relTol=<x>`.
+#[derive(Clone, Copy, Default)]
+struct Options {
+    p_max: Option<f64>,
+    no_energy: bool,
+    points: Option<usize>,
+    rel_tol: Option<f64>,
+}
+
+fn run(name: &str, rpm: f64, method: Method, o: Options) {
+    let mut p = drive(name, rpm, method);
+    if let Some(x) = o.p_max {
+        p.contact.p_max = x;
+    }
+    if let Some(x) = o.points {
+        p.contact.points = x;
+    }
+    if let Some(x) = o.rel_tol {
+        p.solver.rel_tol = x;
+    }
+    let ramp = p.pulleys.iter().map(|q| q.ramp_time).fold(0.0, f64::max);
+    let t0 = ramp + 0.1;
+    let mut d = Drive::new(&p, 0.0).expect("valid drive");
+    if o.no_energy {
+        d.set_energy_check(false);
+    }
+    for w in d.warnings() {
+        println!("  warning: {w}");
+    }
+    let mut t = 0.0;
+    while t < t0 - 1e-12 {
+        t += COMM;
+        d.advance(t).expect("runs");
+    }
+    // the plain run's cost over the window (the advance calls alone), its
+    // span tensions and arm angles sampled at the communication points
+    let mut plain = d.clone();
+    let s0 = plain.stats();
+    let np = p.pulleys.len();
+    let (mut cpu, mut tension, mut arm) = (0.0, vec![0.0; np], 0.0);
+    let mut tt = t;
+    let samples = (WINDOW / COMM).round() as usize;
+    for k in 1..=samples {
+        tt = t + k as f64 * COMM;
+        let c0 = cpu_time();
+        plain.advance(tt).expect("runs");
+        cpu += cpu_time() - c0;
+        let o = plain.outputs();
+        for (m, x) in tension.iter_mut().zip(&o.span_tension) {
+            *m += x / samples as f64;
+        }
+        arm += o.pulleys[..np].iter().map(|q| q.arm_angle).sum::<f64>() / samples as f64;
+    }
+    let s1 = plain.stats();
+    // the observed run
+    let sys = d.system().clone();
+    let mut y = d.state().to_vec();
+    let mut ws = Workspace::new();
+    let mut prof = Profile::default();
+    let mut comps = vec![0.0; y.len()];
+    let mut end = vec![0.0; y.len()];
+    let mut tc = t;
+    let (jac, fac) = match d.integrator().clone() {
+        Integrator::Rosenbrock(mut ros) => {
+            let (j0, f0) = (ros.jacobians, ros.factorizations);
+            for k in 1..=(WINDOW / COMM).round() as usize {
+                ros.advance_observed(
+                    &sys,
+                    &mut ws,
+                    &mut tc,
+                    &mut y,
+                    t + k as f64 * COMM,
+                    &mut |m, tr| {
+                        let energy = m.error_components(tr.y, &mut comps, &mut end);
+                        prof.record(&sys, &tr, &comps, &end, energy);
+                    },
+                )
+                .expect("runs");
+            }
+            (ros.jacobians - j0, ros.factorizations - f0)
+        }
+        Integrator::Rkf45(mut rk) => {
+            for k in 1..=(WINDOW / COMM).round() as usize {
+                rk.advance_observed(
+                    &sys,
+                    &mut ws,
+                    &mut tc,
+                    &mut y,
+                    t + k as f64 * COMM,
+                    &mut |m, tr| {
+                        m.error_components(tr.y, tr.h, &mut comps, &mut end);
+                        prof.record(&sys, &tr, &comps, &end, 0.0);
+                    },
+                )
+                .expect("runs");
+            }
+            (0, 0)
+        }
+    };
+    assert!((tt - tc).abs() < 1e-12);
+    let per_s = |x: u64| x as f64 / WINDOW;
+    let out = plain.outputs();
+    println!(
+        "  means over the window: span tensions {} N, arm angle {:.5} rad",
+        tension
+            .iter()
+            .map(|x| format!("{x:.2}"))
+            .collect::<Vec<_>>()
+            .join("/"),
+        arm
+    );
+    println!(
+        "{name} {rpm} rpm {method:?}: real-time factor {:.3} (cpu {:.2} s); belt speed {:.1} m/s, slips {} %; \
+         plain run: {:.0} accepted/s, {:.0} rejected/s ({:.1} %); observed run: {:.0} accepted/s, \
+         {:.0} rejected/s; mean step {:.2e} s; Jacobians {:.0}/s, factorizations {:.0}/s",
+        WINDOW / cpu,
+        cpu,
+        out.pulleys[0].omega.abs() * p.pulleys[0].radius,
+        (1..p.pulleys.len())
+            .map(|j| format!("{:.3}", 100.0 * out.pulleys[j].slip))
+            .collect::<Vec<_>>()
+            .join("/"),
+        per_s(s1.steps - s0.steps),
+        per_s(s1.rejected - s0.rejected),
+        100.0 * (s1.rejected - s0.rejected) as f64 / (s1.steps - s0.steps) as f64,
+        per_s(prof.accepted),
+        per_s(prof.rejected),
+        prof.h_sum / prof.accepted as f64,
+        per_s(jac),
+        per_s(fac)
+    );
+    let pct = |a: &[u64]| {
+        let s: u64 = a.iter().sum::<u64>().max(1);
+        a.iter()
+            .map(|&x| format!("{:.0}", 100.0 * x as f64 / s as f64))
+            .collect::<Vec<_>>()
+            .join("/")
+    };
+    println!(
+        "  worst component [% of trials] pos/angle/vel/spin/creep/pulley/decoupler/arm angle/arm rate/energy/other: \
+         accepted {}; rejected {}",
+        pct(&prof.acc_group),
+        pct(&prof.rej_group)
+    );
+    println!(
+        "  worst body's distance to a landing or leaving [bodies 0/1/2/3+, %]: accepted {}; rejected {}",
+        pct(&prof.acc_place),
+        pct(&prof.rej_place)
+    );
+    let share = |k: usize| 100.0 * prof.with_change[k] as f64 / prof.of_kind[k].max(1) as f64;
+    println!(
+        "  trials over which a body lands or leaves [%]: accepted {:.0}, rejected on the norm {:.0} \
+         (of {}), on the energy check {:.0} (of {}); accepted steps limited by the energy check {:.0} %",
+        share(0),
+        share(1),
+        prof.of_kind[1],
+        share(2),
+        prof.of_kind[2],
+        100.0 * prof.energy_limited as f64 / prof.accepted.max(1) as f64
+    );
+    println!(
+        "  accepted step sizes [% per decade 1e-8/1e-7/1e-6/1e-5/1e-4/1e-3 s]: {}",
+        pct(&prof.h_hist)
+    );
+}
+
+fn main() {
+    let (opts, args): (Vec<String>, Vec<String>) =
+        std::env::args().skip(1).partition(|a| a.contains('='));
+    let mut o = Options::default();
+    for kv in &opts {
+        let (k, v) = kv.split_once('=').unwrap();
+        match k {
+            "pMax" => o.p_max = Some(v.parse().expect("pMax")),
+            "energyCheck" => o.no_energy = v == "0",
+            "points" => o.points = Some(v.parse().expect("points")),
+            "relTol" => o.rel_tol = Some(v.parse().expect("relTol")),
+            _ => panic!("option {k}"),
+        }
+    }
+    let method = |m: &str| match m {
+        "stiff" => Method::Rosenbrock,
+        "rkf45" => Method::Rkf45,
+        _ => panic!("method {m}: stiff or rkf45"),
+    };
+    if args.is_empty() {
+        for m in ["stiff", "rkf45"] {
+            run("5pk", 0.0, method(m), o);
+            for name in ["acc4", "tens"] {
+                for rpm in [800.0, 6000.0] {
+                    run(name, rpm, method(m), o);
+                }
+            }
+        }
+        return;
+    }
+    for a in args.chunks(3) {
+        run(&a[0], a[1].parse().expect("rpm"), method(&a[2]), o);
+    }
+}
