@@ -370,6 +370,71 @@ fn integrators_agree_on_the_decoupler_and_tensioner_sets() {
     }
 }
 
+/// The tensioner set (parameters/accessory-drive-tensioner.ssv) at 6,000
+/// rpm crank speed (belt at 44 m/s) with the load torques held at their
+/// idle values (load damping scaled by 800/6000): the stiff method at
+/// relTol 1e-4 against RKF45 at relTol 1e-6 (tight: RKF45 is held by its
+/// stability limit at 1e-4 already, so 1e-6 tightens what it resolves), the
+/// bounds of `agree_with_reference` at 1e-4: pulley speeds and span
+/// tensions within 0.5 %. The crank ramp shortened to 0.2 s, means over
+/// 0.3-0.4 s. Measured (`cargo test --profile ci --test defaults
+/// tensioner_set_at_6000 -- --nocapture`): span tensions within 0.04 %
+/// (918.09 / 772.68 / 661.04 / 658.29 N against 918.29 / 772.96 / 661.23 /
+/// 658.52 N), pulley speeds within 0.003 %, the alternator's slip 0.1126 %
+/// against 0.1150 %; 49 970 stiff steps against 172 190.
+#[test]
+fn integrators_agree_on_the_tensioner_set_at_6000_rpm() {
+    let mut p = parameter_set("accessory-drive-tensioner.ssv");
+    p.solver.max_steps = DriveParams::default().solver.max_steps;
+    let scale = 6000.0 / 800.0;
+    p.pulleys[0].omega_ramp *= scale;
+    for q in &mut p.pulleys {
+        q.ramp_time = 0.2;
+    }
+    for q in &mut p.pulleys[1..] {
+        q.load_damping /= scale;
+    }
+    let (t0, t1) = (0.3, 0.4);
+    let (reference, stiff) = std::thread::scope(|s| {
+        let h = s.spawn(|| run(&p, Method::Rkf45, 1e-6, None, t0, t1));
+        let stiff = run(&p, Method::Rosenbrock, 1e-4, None, t0, t1);
+        (h.join().expect("RKF45 run"), stiff)
+    });
+    let (a, r) = (&stiff.averages, &reference.averages);
+    println!(
+        "tensioner set at 6000 rpm: stiff at 1e-4 ({} steps) vs RKF45 at 1e-6 ({} steps): \
+         speeds {:?} vs {:?}, span tensions {:?} vs {:?} N, slip {:.4} % vs {:.4} %",
+        stiff.steps,
+        reference.steps,
+        a.omega,
+        r.omega,
+        a.span_tension,
+        r.span_tension,
+        100.0 * slip(&p, a, 2),
+        100.0 * slip(&p, r, 2)
+    );
+    assert!(
+        (a.omega[0] / r.omega[0] - 1.0).abs() < 1e-6,
+        "the crank is speed-driven: {} vs {} rad/s",
+        a.omega[0],
+        r.omega[0]
+    );
+    for j in 0..p.pulleys.len() {
+        let (x, y) = (a.omega[j], r.omega[j]);
+        assert!(
+            (x - y).abs() <= 5e-3 * y.abs(),
+            "pulley {} speed {x} vs {y} rad/s",
+            j + 1
+        );
+        let (x, y) = (a.span_tension[j], r.span_tension[j]);
+        assert!(
+            (x - y).abs() <= 5e-3 * y.abs(),
+            "span {} tension {x} vs {y} N",
+            j + 1
+        );
+    }
+}
+
 /// The paper's section-4 set as it ships (parameters/kubas2014-section4.ssv:
 /// the paper's 1 mm contact ramp, the 5PK drive of the default otherwise),
 /// means over 0.35-0.6 s as on the default drive.
