@@ -247,13 +247,16 @@ impl Profile {
 
 /// Options `key=value` after the runs: `pMax=<m>` (contact.pMax),
 /// `energyCheck=0` (the stiff method's energy check off), `points=<n>`
-/// (contact.points), `relTol=<x>`.
+/// (contact.points), `relTol=<x>`, `bodies=<n>` (belt.nBodies), `load=<x>`
+/// (the load dampings times x).
 #[derive(Clone, Copy, Default)]
 struct Options {
     p_max: Option<f64>,
     no_energy: bool,
     points: Option<usize>,
     rel_tol: Option<f64>,
+    bodies: Option<usize>,
+    load: Option<f64>,
 }
 
 fn run(name: &str, rpm: f64, method: Method, o: Options) {
@@ -266,6 +269,14 @@ fn run(name: &str, rpm: f64, method: Method, o: Options) {
     }
     if let Some(x) = o.rel_tol {
         p.solver.rel_tol = x;
+    }
+    if let Some(x) = o.bodies {
+        p.belt.n_bodies = x;
+    }
+    if let Some(x) = o.load {
+        for q in &mut p.pulleys {
+            q.load_damping *= x;
+        }
     }
     let ramp = p.pulleys.iter().map(|q| q.ramp_time).fold(0.0, f64::max);
     let t0 = ramp + 0.1;
@@ -424,6 +435,8 @@ fn main() {
             "energyCheck" => o.no_energy = v == "0",
             "points" => o.points = Some(v.parse().expect("points")),
             "relTol" => o.rel_tol = Some(v.parse().expect("relTol")),
+            "bodies" => o.bodies = Some(v.parse().expect("bodies")),
+            "load" => o.load = Some(v.parse().expect("load")),
             _ => panic!("option {k}"),
         }
     }
