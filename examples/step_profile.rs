@@ -24,6 +24,8 @@ mod ssv;
 
 use belt_drive::belt::drive::Integrator;
 use belt_drive::belt::params::Method;
+use belt_drive::belt::rkf45::Rkf45;
+use belt_drive::belt::solver_params::TUNING;
 use belt_drive::belt::stepping::Trial;
 use belt_drive::belt::system::{BeltSystem, Workspace, BODY_DOF};
 use belt_drive::belt::{Drive, DriveParams};
@@ -259,6 +261,49 @@ struct Options {
     load: Option<f64>,
 }
 
+/// Trials whose energy terms are compared with a tight reference step.
+const TERM_SAMPLES: usize = 40;
+
+/// The stiff method's energy residual over its tolerance, term by term:
+/// each term of the balance at the trial's end state less its value at the
+/// end of the same step taken by RKF45 at relTol 1e-10 (summed |.| /
+/// tolerance: residual, input work, dissipated, kinetic, potential less
+/// creep springs, creep springs).
+#[derive(Default)]
+struct Terms {
+    samples: usize,
+    err: [f64; 6],
+}
+
+impl Terms {
+    fn add(&mut self, sys: &BeltSystem, tr: &Trial, end: &[f64], rel_tol: f64, ws: &mut Workspace) {
+        let mut rk = Rkf45::new(tr.y.len(), 1e-10, 1e-12, tr.h / 16.0, 1_000_000);
+        let (mut t, mut y) = (tr.t, tr.y.to_vec());
+        if rk.advance(sys, ws, &mut t, &mut y, tr.t + tr.h).is_err() {
+            return;
+        }
+        let o = sys.energy_offset();
+        let parts = |y: &[f64]| {
+            let e = sys.stored_energy(y);
+            let b = sys.balance_of(y, e);
+            [
+                b.balance,
+                y[o],
+                y[o + 1],
+                e.kinetic,
+                e.potential - e.creep,
+                e.creep,
+            ]
+        };
+        let tol = TUNING.energy_tolerance * rel_tol * sys.stored_energy(tr.y).belt;
+        let (a, r) = (parts(end), parts(&y));
+        for (k, e) in self.err.iter_mut().enumerate() {
+            *e += (a[k] - r[k]).abs() / tol;
+        }
+        self.samples += 1;
+    }
+}
+
 fn run(name: &str, rpm: f64, method: Method, o: Options) {
     let mut p = drive(name, rpm, method);
     if let Some(x) = o.p_max {
@@ -317,6 +362,8 @@ fn run(name: &str, rpm: f64, method: Method, o: Options) {
     let mut y = d.state().to_vec();
     let mut ws = Workspace::new();
     let mut prof = Profile::default();
+    let mut terms = Terms::default();
+    let mut ws_ref = Workspace::new();
     let mut comps = vec![0.0; y.len()];
     let mut end = vec![0.0; y.len()];
     let mut tc = t;
@@ -333,6 +380,9 @@ fn run(name: &str, rpm: f64, method: Method, o: Options) {
                     &mut |m, tr| {
                         let energy = m.error_components(tr.y, &mut comps, &mut end);
                         prof.record(&sys, &tr, &comps, &end, energy);
+                        if energy > 1.0 && terms.samples < TERM_SAMPLES {
+                            terms.add(&sys, &tr, &end, m.rel_tol, &mut ws_ref);
+                        }
                     },
                 )
                 .expect("runs");
@@ -418,6 +468,22 @@ fn run(name: &str, rpm: f64, method: Method, o: Options) {
         prof.of_kind[2],
         100.0 * prof.energy_limited as f64 / prof.accepted.max(1) as f64
     );
+    if terms.samples > 0 {
+        let k = terms.samples as f64;
+        println!(
+            "  energy residual of {} trials over the energy check's tolerance, term by term against \
+             RKF45 at relTol 1e-10 over the same step (mean |error| / tolerance): residual {:.2}; \
+             input work {:.2}, dissipated {:.2}, kinetic {:.2}, potential less creep springs {:.2} \
+             (creep springs {:.2})",
+            terms.samples,
+            terms.err[0] / k,
+            terms.err[1] / k,
+            terms.err[2] / k,
+            terms.err[3] / k,
+            terms.err[4] / k,
+            terms.err[5] / k
+        );
+    }
     println!(
         "  accepted step sizes [% per decade 1e-8/1e-7/1e-6/1e-5/1e-4/1e-3 s]: {}",
         pct(&prof.h_hist)
