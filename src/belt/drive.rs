@@ -895,16 +895,21 @@ impl Drive {
     /// Deflection and its rate at the fixed mid-point of the free span from
     /// pulley k to k+1 (`Outputs::span_mid_deflection`). The belt's line is
     /// the polygon through the body centres (straight in a straight span);
-    /// where it crosses the normal to the mounted common tangent through
-    /// the tangent's mid-point, the crossing's distance from the tangent is
-    /// the deflection; its rate is the exact time derivative of that
-    /// distance (the crossing point moves along the polygon). Of the two
-    /// strands of the loop that cross the normal, the nearer one is the
-    /// span's. None if the span has no free length.
+    /// where it crosses the normal to the reference line through its
+    /// mid-point, the crossing's distance from the reference line is the
+    /// deflection; its rate is the exact time derivative of that distance
+    /// (the crossing point moves along the polygon). The reference line is
+    /// the one the mounted span's body centres lie on without gravity, the
+    /// line through the span's end points where the belt leaves the pulleys
+    /// (`Layout::lines`: outside the pulleys' common tangent at the body
+    /// centres' radius by the chordal offset l^2 / (8 rho) of the bodies on
+    /// the arcs, so the same sag reads the same on a span above and below
+    /// the pulleys). Of the two strands of the loop that cross the normal,
+    /// the nearer one is the span's. None if the span has no free length.
     fn mid_deflection(&self, k: usize) -> Option<(f64, f64)> {
         let np = self.sys.np;
         let next = (k + 1) % np;
-        let span = self.layout.span_between(k, next)?;
+        let span = self.layout.line_between(k, next)?;
         let (a, b) = if span.from == k {
             (span.start, span.end)
         } else {

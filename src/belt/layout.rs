@@ -85,6 +85,12 @@ pub struct Layout {
     pub path_length: f64,
     /// Mounted pose of every body, in belt order.
     pub bodies: Vec<BodyPose>,
+    /// The line the body centres of each free span lie on, in the order of
+    /// `spans`: the common tangent of the circles the body ends run on
+    /// (radius sqrt(rho^2 + l^2/4), rho = r - p0 the body centres' radius on
+    /// the arc), outside `spans` by about l^2 / (8 rho), the chordal offset
+    /// of the bodies on the arcs. The span's deflection is measured from it.
+    pub lines: Vec<Span>,
 }
 
 fn left_normal(a: f64) -> [f64; 2] {
@@ -468,12 +474,14 @@ impl Layout {
             Ok((spans_e, wraps_e, radii_e))
         };
         let (body_length, bodies) = place_bodies(params, end_path, body_length)?;
+        let (lines, _, _) = end_path(body_length)?;
         Ok(Self {
             spans,
             wraps,
             body_length,
             path_length,
             bodies,
+            lines,
         })
     }
 
@@ -482,6 +490,13 @@ impl Layout {
     pub fn span_between(&self, a: usize, b: usize) -> Option<&Span> {
         let forward = self.spans.iter().find(|s| s.from == a && s.to == b);
         forward.or_else(|| self.spans.iter().find(|s| s.from == b && s.to == a))
+    }
+
+    /// The line of the body centres in the free span from pulley `a` to
+    /// pulley `b` ([`Self::lines`]), as [`Self::span_between`] finds spans.
+    pub fn line_between(&self, a: usize, b: usize) -> Option<&Span> {
+        let forward = self.lines.iter().find(|s| s.from == a && s.to == b);
+        forward.or_else(|| self.lines.iter().find(|s| s.from == b && s.to == a))
     }
 
     /// The wrap on `pulley`, if the belt wraps it.
@@ -605,6 +620,12 @@ enum Segment {
         heading: f64,
         start: [f64; 2],
         dir: [f64; 2],
+        /// Free length L [m].
+        len: f64,
+        /// The static sag's shape under gravity: the point at d along the
+        /// line lies `sag d (L - d)` off it along `down`.
+        sag: f64,
+        down: [f64; 2],
     },
     Arc {
         s0: f64,
@@ -621,13 +642,35 @@ impl EndPath {
         let mut s = 0.0;
         let mut heading = spans[0].angle;
         let mut segs = Vec::new();
+        // A string of mass per length rho' under tension T0 and the load
+        // rho' g_n across it (g_n the part of gravity across the span)
+        // hangs in the parabola w(d) = rho' g_n d (L - d) / (2 T0), the
+        // catenary within (sag / L)^2: the bodies are placed on it, so the
+        // belt starts at its static sag instead of falling at t = 0.
+        let b = &params.belt;
+        let rho = b.mass_per_length / (1.0 + b.preload / b.ea);
         for (sp, w) in spans.iter().zip(wraps) {
             let dir = [sp.angle.cos(), sp.angle.sin()];
+            // the span's normal on gravity's side (gravity acts in -y)
+            let down = if dir[0] >= 0.0 {
+                [dir[1], -dir[0]]
+            } else {
+                [-dir[1], dir[0]]
+            };
+            let g_n = -params.gravity * down[1];
+            // mid-span sag rho' g_n L^2 / (8 T0); a belt mounted without
+            // preload, or so slack that its sag exceeds a twentieth of the
+            // span (beyond the shallow string), is mounted straight
+            let sag = rho * g_n / (2.0 * b.preload);
+            let shallow = b.preload > 0.0 && sag * sp.length <= 0.2;
             segs.push(Segment::Line {
                 s0: s,
                 heading,
                 start: sp.start,
                 dir,
+                len: sp.length,
+                sag: if shallow { sag } else { 0.0 },
+                down,
             });
             s += sp.length;
             let p = &params.pulleys[w.pulley];
@@ -664,11 +707,17 @@ impl EndPath {
                 heading,
                 start,
                 dir,
-                ..
+                len,
+                sag,
+                down,
             } => {
                 let d = s - s0;
+                let w = sag * d.clamp(0.0, len) * (len - d).clamp(0.0, len);
                 (
-                    [start[0] + d * dir[0], start[1] + d * dir[1]],
+                    [
+                        start[0] + d * dir[0] + w * down[0],
+                        start[1] + d * dir[1] + w * down[1],
+                    ],
                     heading + extra,
                 )
             }
