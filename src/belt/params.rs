@@ -267,7 +267,9 @@ pub struct SolverParams {
     pub abs_tol: f64,
     /// First trial step size [s].
     pub initial_step: f64,
-    /// Step-count guard per `advance` call.
+    /// Step-count guard: accepted steps per millisecond of an `advance`
+    /// call's interval (at least this many per call;
+    /// [`crate::belt::stepping::step_budget`]).
     pub max_steps: u64,
 }
 
@@ -285,12 +287,11 @@ impl Default for SolverParams {
     }
 }
 
-/// The step-count guard of a library run (`SolverParams::max_steps`), the
-/// one default that is not the model description's: the guard bounds the
-/// work of one `Drive::advance` call, which a Rust program makes over a whole
-/// horizon (the default drive takes 0.8 million steps per simulated second
-/// with RKF45), while an importer's fmi2DoStep covers one communication step
-/// (`solver.maxSteps` = 1e5, docs/model.md).
+/// The step-count guard of a library run (`SolverParams::max_steps`, steps
+/// per millisecond of a call), the one default that is not the model
+/// description's: no practical bound for a Rust program, while the FMU's
+/// `solver.maxSteps` = 1e5 stops a call whose mean step falls below 10 ns
+/// (docs/numerics.md).
 pub const LIBRARY_MAX_STEPS: u64 = 100_000_000;
 
 /// Everything that defines a drive.

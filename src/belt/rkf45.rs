@@ -556,13 +556,38 @@ mod tests {
 
     #[test]
     fn failure_restores_state() {
-        let mut rk = Rkf45::new(2, 1e-12, 1e-12, 1e-3, 5);
+        // 2 steps per millisecond, first step 1 us: the step grows at most
+        // 5-fold per step, so 1 ms needs more than 2 steps
+        let mut rk = Rkf45::new(2, 1e-12, 1e-12, 1e-6, 2);
         let mut y = [1.0, 0.0];
         let mut t = 0.5;
         let err = rk
-            .advance(&Osc, &mut (), &mut t, &mut y, 100.0)
+            .advance(&Osc, &mut (), &mut t, &mut y, 0.501)
             .unwrap_err();
-        assert!(matches!(err, StepFailure::TooManySteps { .. }));
+        assert!(
+            matches!(err, StepFailure::TooManySteps { steps: 2, .. }),
+            "{err:?}"
+        );
         assert_eq!((t, y), (0.5, [1.0, 0.0]));
+    }
+
+    #[test]
+    fn step_count_guard_scales_with_the_interval() {
+        // 20 steps per millisecond: 20 000 over 1 s, where this oscillator
+        // at tolerance 1e-12 takes a few hundred steps (its step is
+        // ~(1e-12)^(1/5) of its period); a guard of 20 per call would stop it
+        let mut rk = Rkf45::new(2, 1e-12, 1e-12, 1e-6, 20);
+        let mut y = [1.0, 0.0];
+        let mut t = 0.0;
+        rk.advance(&Osc, &mut (), &mut t, &mut y, 1.0).unwrap();
+        let steps = rk.control.stats.steps;
+        assert!((20..20_000).contains(&steps), "{steps} steps");
+        assert!((y[0] - 1f64.cos()).abs() < 1e-9);
+        assert_eq!(crate::belt::stepping::step_budget(20, 1.0), 20_000);
+        assert_eq!(crate::belt::stepping::step_budget(20, 1e-5), 20);
+        assert_eq!(crate::belt::stepping::step_budget(20, 1.5e-3), 40);
+        assert_eq!(crate::belt::stepping::step_budget(20, 0.501 - 0.5), 20);
+        assert_eq!(crate::belt::stepping::step_budget(u64::MAX, 2.0), u64::MAX);
+        assert_eq!(crate::belt::stepping::step_budget(7, f64::NAN), 7);
     }
 }

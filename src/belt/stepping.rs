@@ -44,7 +44,7 @@ pub struct Stats {
 #[derive(Clone, Debug, PartialEq)]
 /// Why an integration call failed (the state is then restored).
 pub enum StepFailure {
-    /// More than `max_steps` steps were needed.
+    /// More than the call's step budget ([`step_budget`]) was needed.
     TooManySteps {
         /// Time reached [s].
         t: f64,
@@ -81,7 +81,8 @@ impl std::fmt::Display for StepFailure {
         match self {
             Self::TooManySteps { t, steps } => write!(
                 f,
-                "integrator step-count guard hit at t = {t} s after {steps} steps"
+                "integrator step-count guard hit at t = {t} s after {steps} steps, \
+                 the most a call over this interval may take"
             ),
             Self::StepTooSmall { t, h } => {
                 write!(f, "integrator step size fell to {h:e} s at t = {t} s")
@@ -96,7 +97,8 @@ impl std::fmt::Display for StepFailure {
 pub struct StepControl {
     /// Step size proposed for the next step.
     pub h: f64,
-    /// Most accepted steps per call.
+    /// Most accepted steps per [`GUARD_INTERVAL`] of a call's interval
+    /// ([`step_budget`]).
     pub max_steps: u64,
     /// Counters.
     pub stats: Stats,
@@ -139,6 +141,26 @@ pub trait EmbeddedMethod<S: OdeSystem + ?Sized> {
     fn rejected(&mut self) {}
     /// The call failed and the state was restored.
     fn failed(&mut self) {}
+}
+
+/// The interval the step-count guard is stated per: a call over H may take
+/// `max_steps` steps per `GUARD_INTERVAL` of H (at least `max_steps`).
+pub const GUARD_INTERVAL: f64 = 1e-3;
+
+/// The accepted steps a call over `interval` seconds may take:
+/// `max_steps` · max(1, interval / [`GUARD_INTERVAL`]), saturating. The guard
+/// scales with the interval, so a long communication step completes; what it
+/// stops is a call whose mean step has collapsed below `GUARD_INTERVAL /
+/// max_steps` (10 ns at the FMU's default `solver.maxSteps`, docs/numerics.md).
+pub fn step_budget(max_steps: u64, interval: f64) -> u64 {
+    // an interval of one GUARD_INTERVAL computed as a difference of two
+    // times may exceed it in the last bits: that is still one
+    let intervals = (interval / GUARD_INTERVAL * (1.0 - 1e-9)).ceil();
+    if intervals.is_nan() || intervals <= 1.0 {
+        return max_steps;
+    }
+    // float-to-int `as` saturates at u64::MAX
+    max_steps.saturating_mul(intervals as u64)
 }
 
 /// Integrates `y` from `*t` to exactly `t_end` with `method`. On failure `y`,
@@ -224,9 +246,10 @@ where
 {
     let mut steps = 0u64;
     let mut non_finite = 0u32;
+    let budget = step_budget(method.control().max_steps, t_end - *t);
     while *t < t_end {
         let c = method.control();
-        if steps >= c.max_steps {
+        if steps >= budget {
             return Err(StepFailure::TooManySteps { t: *t, steps });
         }
         let remaining = t_end - *t;

@@ -2,9 +2,10 @@
 //!
 //! Policy (FMI 2.0 section 2.1.5 leaves errors open; this follows the
 //! Reference-FMUs and the FMU SDK):
-//! * messages with status `fmi2Error` or `fmi2Fatal` are **always**
-//!   forwarded, whatever the debug-logging settings, because the importer
-//!   gets an error return and needs the reason;
+//! * messages with status `fmi2Discard`, `fmi2Error` or `fmi2Fatal` are
+//!   **always** forwarded, whatever the debug-logging settings, because the
+//!   importer gets a return it must act on and needs the reason (a discarded
+//!   communication step would otherwise end a run with no word of why);
 //! * every other message is forwarded only if its category is enabled, or
 //!   `logAll` is enabled ("log all messages" in the standard's list of
 //!   recommended categories).
@@ -155,7 +156,11 @@ impl Logger {
 
     /// Send `message` to the importer if the policy above allows it.
     pub fn log(&self, status: Fmi2Status, category: &str, message: &str) {
-        if status >= Fmi2Status::Error || self.is_enabled(category) {
+        let always = matches!(
+            status,
+            Fmi2Status::Discard | Fmi2Status::Error | Fmi2Status::Fatal
+        );
+        if always || self.is_enabled(category) {
             self.always(status, category, message);
         }
     }

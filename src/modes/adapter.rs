@@ -114,9 +114,8 @@ pub fn build(params: &DriveParams) -> Result<Drive, String> {
     Drive::new(params, 0.0).map_err(|e| crate::fmu::names::render_error(&e))
 }
 
-/// Integrates the drive to time `t`, in calls of at most 1 ms (the
-/// parameters' `solver.maxSteps` guards one call, as it guards one
-/// fmi2DoStep of the FMU).
+/// Integrates the drive to time `t`, in calls of at most 1 ms (as an
+/// importer's 1 ms communication steps do).
 pub fn run_to(drive: &mut Drive, t: f64) -> Result<(), String> {
     const CHUNK: f64 = 1e-3;
     while drive.time() < t {

@@ -55,7 +55,7 @@ pub static REGISTRY: &[Item] = &[
     Item::One(param("solver.maxSteps", Vr::Fixed(8), Ty::Integer, &["100000"])
         .min("1")
         .id("SolverMaxSteps", "step-count guard")
-        .about("Step-count guard per communication step (bounds the work of one fmi2DoStep; the default covers about 0.2 s of the default drive with RKF45)")),
+        .about("Step-count guard: integrator steps per millisecond of a communication step (a doStep over H may take maxSteps * max(1, H / 1 ms) steps, so a step of any length completes; the default stops a call whose mean step falls below 10 ns)")),
     Item::One(param("contact.points", Vr::Fixed(9), Ty::Integer, &["4"])
         .min("1")
         .max("5")
