@@ -29,6 +29,8 @@
 
 mod bench;
 mod docs;
+#[cfg(test)]
+mod hygiene;
 mod icon;
 mod tools;
 
