@@ -29,6 +29,10 @@ sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import animation  # noqa: E402
 
 SHOTS = ROOT / "dist" / "screenshots"
+# `cargo xtask test --no-browser` leaves the tests that need chromium out.
+needs_browser = pytest.mark.skipif(
+    bool(os.environ.get("BELTDRIVE_NO_BROWSER")),
+    reason="cargo xtask test --no-browser: the headless-browser tests are left out")
 
 
 def chromium():
@@ -62,6 +66,7 @@ def console_errors(log):
             if "CONSOLE" in line and ("rror" in line or "Uncaught" in line)]
 
 
+@needs_browser
 def test_fmu_manual_in_chromium(fmu_path, tmp_path):
     docs = tmp_path / "fmu"
     with zipfile.ZipFile(fmu_path) as z:
@@ -92,6 +97,7 @@ def test_fmu_manual_in_chromium(fmu_path, tmp_path):
     assert shot.stat().st_size > 20000, "screenshot looks empty"
 
 
+@needs_browser
 def test_animation_in_chromium(fmu_path, tmp_path):
     exe = None
     for profile in ("ci", "release", "debug"):

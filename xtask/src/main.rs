@@ -4,13 +4,17 @@
 //!   its GUID, the Linux binary, generated documentation, model icon).
 //! * `venv` - `.venv` with the Python test harness (FMPy, pytest, ...).
 //! * `run [-- --fast --stop-time T]` - the main job: build the FMU and
-//!   simulate the paper's drive with it through FMPy (report,
-//!   `dist/default_drive.png`, the animation `dist/default_drive.html`).
+//!   simulate its default drive through FMPy with RKF45 and the stiff method
+//!   side by side (`--fast`: the stiff method only); a report of both with
+//!   their times, `dist/default_drive.png`, the animation
+//!   `dist/default_drive.html` (with `dist/default_drive_frames.json`) and
+//!   the report's figures `dist/default_drive.json`.
 //! * `crosscheck` - reference results in the FMI cross-check layout beside
 //!   the FMU: `dist/BeltDrive_{ref.csv,ref.opt,in.csv}` (FMPy).
 //! * `fmi-sim` - install the pinned rust-fmi `fmi-sim` into `.tools/`.
-//! * `test` - everything CI runs: fmt, clippy, cargo tests, valgrind (if
-//!   installed), FMU, cross-check files, fmi-sim, pytest (FMPy and fmi-sim).
+//! * `test [--fmi-sim] [--no-browser]` - everything CI runs: fmt, clippy,
+//!   cargo tests, valgrind (if installed), FMU, cross-check files, pytest
+//!   (FMPy, the other importers, the browser tests, fmi-sim if installed).
 //! * `valgrind` - memcheck over instantiate / step / FMU-state / free cycles
 //!   of the built library (`examples/valgrind_driver.rs`).
 //! * `validate` - the validation report: both paper drives, the closed-form
@@ -61,6 +65,33 @@ fn run(cmd: &mut Command, what: &str) -> Result<()> {
     }
 }
 
+/// [`run`], printing a line every 15 s while `cmd` runs: for the builds,
+/// whose final fat-LTO link is silent for a minute or more.
+fn run_with_heartbeat(cmd: &mut Command, what: &str) -> Result<()> {
+    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::Arc;
+    use std::time::{Duration, Instant};
+    let done = Arc::new(AtomicBool::new(false));
+    let flag = Arc::clone(&done);
+    let label = what.to_string();
+    let t0 = Instant::now();
+    let beat = std::thread::spawn(move || {
+        let mut next = 15;
+        while !flag.load(Ordering::Relaxed) {
+            std::thread::sleep(Duration::from_millis(200));
+            let s = t0.elapsed().as_secs();
+            if s >= next {
+                eprintln!("xtask: {label}: still running ({s} s)");
+                next += 15;
+            }
+        }
+    });
+    let result = run(cmd, what);
+    done.store(true, Ordering::Relaxed);
+    let _ = beat.join();
+    result
+}
+
 fn cargo() -> Command {
     Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()))
 }
@@ -69,9 +100,9 @@ fn cargo() -> Command {
 const FMU_PACKAGE: &str = "belt_drive";
 
 fn fmu() -> Result<PathBuf> {
-    run(
+    run_with_heartbeat(
         cargo().args(["build", "--release", "--lib", "-p", FMU_PACKAGE]),
-        "release build",
+        "release build of the FMU's library",
     )?;
     let root = root();
     let source = fs::read_to_string(root.join("modelDescription/modelDescription.xml"))
@@ -162,10 +193,18 @@ fn venv() -> Result<()> {
 fn main_job(args: &[String]) -> Result<()> {
     // `cargo xtask run -- --stop-time 0.5`: drop the separator.
     let args = args.strip_prefix(&["--".to_string()]).unwrap_or(args);
+    eprintln!(
+        "cargo xtask run: the FMU's default drive, simulated with both integrators\n\
+         \x20 1/3 build dist/BeltDrive.fmu and the belt-shape example (release builds: 1-3 min on a \
+         fresh clone, seconds after that)\n\
+         \x20 2/3 the Python environment .venv (FMPy and the plotting; 1-3 min on the first run only)\n\
+         \x20 3/3 simulate with RKF45, then with the stiff method (`-- --fast`: the stiff method only), and report"
+    );
+    eprintln!("xtask: 1/3 building");
     fmu()?;
     // The animation's belt shape: the physics core with the FMU's defaults
     // (the FMU has no body position outputs), see examples/belt_shape.rs.
-    run(
+    run_with_heartbeat(
         cargo().args([
             "build",
             "--release",
@@ -176,7 +215,9 @@ fn main_job(args: &[String]) -> Result<()> {
         ]),
         "release build of the belt-shape example (animation)",
     )?;
+    eprintln!("xtask: 2/3 the Python environment");
     venv()?;
+    eprintln!("xtask: 3/3 simulating");
     let target = std::env::var("CARGO_TARGET_DIR")
         .map(PathBuf::from)
         .unwrap_or_else(|_| root().join("target"));
@@ -231,17 +272,61 @@ fn sweep(args: &[String]) -> Result<()> {
     )
 }
 
-/// `cargo xtask test [--fmi-sim]`: everything CI runs. The Rust tests build
-/// with the `ci` profile (release optimisation without fat LTO, see
-/// Cargo.toml); the FMU the Python tests load is the packaged release build.
-/// rust-fmi's fmi-sim builds from source (about 5 min of CPU time), so it runs
-/// only with `--fmi-sim` or when `.tools/` already holds it; the wheel-based
-/// importers (libcosim, Ecos, fmu-manipulation-toolbox) always run.
+/// `cargo xtask test [--fmi-sim] [--no-browser]`: everything CI runs. It
+/// first says what it will run and which Debian packages it will install
+/// (`libtbb12` for Ecos, `chromium` for the browser tests; `--no-browser`
+/// leaves the browser tests and chromium out, and pytest lists them as
+/// skipped with the reason). The Rust tests build with the `ci` profile
+/// (release optimisation without fat LTO, see Cargo.toml); the FMU the
+/// Python tests load is the packaged release build. pytest runs on two
+/// worker processes (pytest-xdist) and prints every skip with its reason.
+/// rust-fmi's fmi-sim builds from source (about 5 min of CPU time), so it
+/// runs only with `--fmi-sim` or when `.tools/` already holds it.
 fn test(args: &[String]) -> Result<()> {
     let with_fmi_sim = args.iter().any(|a| a == "--fmi-sim");
-    if let Some(bad) = args.iter().find(|a| *a != "--fmi-sim" && *a != "--") {
-        return Err(format!("test: unknown option {bad} (known: --fmi-sim)"));
+    let browser = !args.iter().any(|a| a == "--no-browser");
+    if let Some(bad) = args
+        .iter()
+        .find(|a| !matches!(a.as_str(), "--fmi-sim" | "--no-browser" | "--"))
+    {
+        return Err(format!(
+            "test: unknown option {bad} (known: --fmi-sim, --no-browser)"
+        ));
     }
+    let valgrind = have_valgrind();
+    let fmi_sim = tools::fmi_sim_installed();
+    let state = |present: bool| {
+        if present {
+            "present"
+        } else {
+            "missing: will be installed with apt-get (through sudo when not root)"
+        }
+    };
+    eprintln!(
+        "cargo xtask test: everything CI runs\n\
+         \x20 1. cargo fmt --check and cargo clippy -D warnings\n\
+         \x20 2. the Rust tests (cargo test --workspace --profile ci --features modes)\n\
+         \x20 3. valgrind memcheck of the C API: {}\n\
+         \x20 4. the packaged FMU (release build) and its cross-check files\n\
+         \x20 5. pytest on 2 processes: the FMU through FMPy, libcosim, Ecos, fmu-manipulation-toolbox, \
+         the browser ({}) and fmi-sim ({})\n\
+         System packages it needs (Debian):\n\
+         \x20 libtbb12  the Ecos importer's library: {}\n\
+         \x20 chromium  headless browser for the FMU manual and the animation page: {}",
+        if valgrind { "valgrind found" } else { "valgrind not installed: skipped" },
+        if browser { "on; --no-browser leaves it out" } else { "off: --no-browser" },
+        match (&fmi_sim, with_fmi_sim) {
+            (Some(_), _) => "installed in .tools/",
+            (None, true) => "--fmi-sim: built now, about 5 min",
+            (None, false) => "not installed: skipped; --fmi-sim builds it",
+        },
+        state(tools::tbb_present()),
+        if browser {
+            state(tools::chromium_present())
+        } else {
+            "not needed (--no-browser)"
+        },
+    );
     run(
         cargo().args(["fmt", "--all", "--", "--check"]),
         "cargo fmt --check",
@@ -270,27 +355,39 @@ fn test(args: &[String]) -> Result<()> {
         ]),
         "cargo test (profile ci)",
     )?;
-    if have_valgrind() {
+    if valgrind {
         valgrind_with("ci")?;
     } else {
         eprintln!("xtask: valgrind not found: skipping the memory check (cargo xtask valgrind)");
     }
     crosscheck(&[])?;
     tools::ensure_tbb()?;
-    tools::ensure_chromium()?;
     let mut pytest = Command::new(venv_python());
+    if browser {
+        tools::ensure_chromium()?;
+    } else {
+        pytest.env("BELTDRIVE_NO_BROWSER", "1");
+    }
+    // -rs: every skipped test with its reason in the summary; -n 2
+    // --dist loadfile: two worker processes, each test file on one (its
+    // module fixtures run once)
     pytest.args([
         "-m",
         "pytest",
         "-q",
+        "-rs",
         "-p",
         "no:cacheprovider",
+        "-n",
+        "2",
+        "--dist",
+        "loadfile",
         "tests/python",
     ]);
     let fmi_sim = if with_fmi_sim {
         Some(tools::fmi_sim()?)
     } else {
-        tools::fmi_sim_installed()
+        fmi_sim
     };
     match fmi_sim {
         Some(exe) => {

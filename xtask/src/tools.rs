@@ -136,6 +136,11 @@ fn tbb_found() -> bool {
             .any(|d| Path::new(d).join("libtbb.so.12").exists())
 }
 
+/// Whether `libtbb12` is present (else [`ensure_tbb`] installs it).
+pub fn tbb_present() -> bool {
+    tbb_found()
+}
+
 /// Debian's `libtbb12` for the Ecos importer (ecospy's library links it).
 pub fn ensure_tbb() -> Result<()> {
     if tbb_found() {
@@ -148,15 +153,20 @@ pub fn ensure_tbb() -> Result<()> {
 /// animation (tests/python/test_browser.py), unless `BELTDRIVE_CHROMIUM`
 /// names a browser or `chromium` is on the PATH.
 pub fn ensure_chromium() -> Result<()> {
-    if std::env::var_os("BELTDRIVE_CHROMIUM").is_some()
+    if chromium_present() {
+        return Ok(());
+    }
+    apt_install("chromium")
+}
+
+/// Whether a browser for the browser tests is there (else
+/// [`ensure_chromium`] installs Debian's `chromium`).
+pub fn chromium_present() -> bool {
+    std::env::var_os("BELTDRIVE_CHROMIUM").is_some()
         || Command::new("chromium")
             .arg("--version")
             .output()
             .is_ok_and(|o| o.status.success())
-    {
-        return Ok(());
-    }
-    apt_install("chromium")
 }
 
 /// `apt-get install` one Debian package, updating the package lists first if
