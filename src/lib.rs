@@ -6,6 +6,7 @@
 //!   It knows nothing about FMI.
 //! * [`fmi`] is the FMI 2.0 plumbing (C ABI, state machine, logging, FMU
 //!   state). It knows nothing about belts beyond the [`fmi::FmuModel`] trait.
+//! * [`drawing`]: an SVG of the mounted drive (`cargo xtask layout`).
 //! * `modes` (feature `modes`): modal analysis from the analytic Jacobian
 //!   (docs/modes.md).
 //! * [`fmu`] connects the two: it maps the variables of
@@ -13,6 +14,7 @@
 //!   [`fmu::variables`]) onto the core's parameters, inputs and outputs.
 
 pub mod belt;
+pub mod drawing;
 pub mod fmi;
 pub mod fmu;
 #[cfg(feature = "modes")]

@@ -1,17 +1,20 @@
 //! `documentation/` of the FMU: `index.html`, the user manual
 //! `docs/fmu-manual.md` rendered with pulldown-cmark (CommonMark with tables),
 //! its `<!-- fmu:... -->` placeholders replaced by what the model description
-//! holds (version and licence, a drawing of the default drive with pulley,
-//! span and body numbering, the parameter, input and output tables), and the
+//! holds (version and licence, the parameter, input and output tables), the
+//! drawing of the default drive (`docs/layout/default-drive.svg`, made by
+//! `cargo xtask layout`, with pulley, span and body numbering), and the
 //! images the manual shows, copied from `docs/`.
 //!
 //! The build fails on a placeholder it does not know, a link or image that
 //! points to a file the FMU does not contain, or a comment left in the page.
 
-use std::f64::consts::PI;
 use std::path::Path;
 
 use crate::Result;
+
+/// The drawing of the default drive, relative to `docs/`.
+const DEFAULT_DRAWING: &str = "layout/default-drive.svg";
 
 fn escape_html(s: &str) -> String {
     s.replace('&', "&amp;")
@@ -132,178 +135,6 @@ fn range(v: &Variable) -> String {
     }
 }
 
-/// Start value of a Real, Integer or Boolean variable as a number.
-fn start_of(info: &ModelInfo, name: &str) -> Result<f64> {
-    let v = info
-        .variables
-        .iter()
-        .find(|v| v.name == name)
-        .ok_or_else(|| format!("documentation: variable {name} missing"))?;
-    match v.start.as_str() {
-        "true" => Ok(1.0),
-        "false" => Ok(0.0),
-        s => s
-            .parse()
-            .map_err(|_| format!("documentation: start of {name} is not a number")),
-    }
-}
-
-/// SVG drawing of the default drive (the start values): pulleys with their
-/// numbers, the belt on the common tangents, span numbers, body 1, the axes
-/// and the direction the belt runs. Pulleys are taken as inside the loop
-/// (as in the default drive), listed counter-clockwise around it.
-fn drive_svg(info: &ModelInfo) -> Result<String> {
-    let np = start_of(info, "nPulleys")? as usize;
-    let mut p = Vec::new();
-    for j in 1..=np {
-        p.push((
-            start_of(info, &format!("pulley[{j}].x"))?,
-            start_of(info, &format!("pulley[{j}].y"))?,
-            start_of(info, &format!("pulley[{j}].radius"))?,
-        ));
-    }
-    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-    for &(x, y, r) in &p {
-        x0 = x0.min(x - r);
-        x1 = x1.max(x + r);
-        y0 = y0.min(y - r);
-        y1 = y1.max(y + r);
-    }
-    let w = 760.0;
-    let scale = ((w - 200.0) / (x1 - x0)).min(300.0 / (y1 - y0));
-    let h = scale * (y1 - y0) + 190.0;
-    let ox = 110.0 - scale * x0;
-    let oy = 60.0 + scale * y1;
-    let sx = |x: f64| ox + scale * x;
-    let sy = |y: f64| oy - scale * y;
-    let mut svg = format!(
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\" \
-         font-family=\"sans-serif\" font-size=\"13\" role=\"img\" aria-label=\"The default drive\">\n\
-         <defs><marker id=\"arr\" viewBox=\"0 0 10 10\" refX=\"9\" refY=\"5\" markerWidth=\"7\" \
-         markerHeight=\"7\" orient=\"auto-start-reverse\"><path d=\"M0,0 L10,5 L0,10 z\" fill=\"#333\"/></marker></defs>\n"
-    );
-    // Tangent points: the belt leaves pulley a and reaches pulley b on the
-    // right of the direction a -> b (a counter-clockwise loop).
-    let mut spans = Vec::new();
-    for k in 0..np {
-        let (a, b) = (p[k], p[(k + 1) % np]);
-        let (dx, dy) = (b.0 - a.0, b.1 - a.1);
-        let d = dx.hypot(dy);
-        let (ux, uy) = (dx / d, dy / d);
-        let (nx, ny) = (uy, -ux);
-        let s = (a.2 - b.2) / d;
-        let c = (1.0 - s * s).sqrt();
-        let (mx, my) = (nx * c + ux * s, ny * c + uy * s);
-        spans.push((
-            (a.0 + a.2 * mx, a.1 + a.2 * my),
-            (b.0 + b.2 * mx, b.1 + b.2 * my),
-            (mx, my),
-        ));
-    }
-    for (j, &(x, y, r)) in p.iter().enumerate() {
-        svg.push_str(&format!(
-            "<circle cx=\"{:.1}\" cy=\"{:.1}\" r=\"{:.1}\" fill=\"#e8e8e8\" stroke=\"#777\"/>\
-             <text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"middle\">pulley {}</text>\n",
-            sx(x),
-            sy(y),
-            scale * r,
-            sx(x),
-            sy(y) + 4.0,
-            j + 1
-        ));
-        // the belt on the wrap: from the end of the previous span to the
-        // start of the next, counter-clockwise
-        let (from, to) = (spans[(j + np - 1) % np].1, spans[j].0);
-        let a0 = (from.1 - y).atan2(from.0 - x);
-        let mut a1 = (to.1 - y).atan2(to.0 - x);
-        while a1 <= a0 {
-            a1 += 2.0 * PI;
-        }
-        let large = if a1 - a0 > PI { 1 } else { 0 };
-        svg.push_str(&format!(
-            "<path d=\"M{:.1},{:.1} A{:.1},{:.1} 0 {large} 0 {:.1},{:.1}\" fill=\"none\" stroke=\"#2a5599\" stroke-width=\"4\"/>\n",
-            sx(from.0),
-            sy(from.1),
-            scale * r,
-            scale * r,
-            sx(to.0),
-            sy(to.1)
-        ));
-    }
-    // The belt runs clockwise when pulley 1's drive torque is negative.
-    let clockwise = start_of(info, "pulley[1].torqueRamp")? < 0.0
-        || start_of(info, "pulley[1].omegaRamp")? < 0.0;
-    for (k, &(a, b, (mx, my))) in spans.iter().enumerate() {
-        svg.push_str(&format!(
-            "<line x1=\"{:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" stroke=\"#2a5599\" stroke-width=\"4\"/>\n",
-            sx(a.0),
-            sy(a.1),
-            sx(b.0),
-            sy(b.1)
-        ));
-        let (cx, cy) = ((a.0 + b.0) / 2.0, (a.1 + b.1) / 2.0);
-        let (lx, ly) = (sx(cx) + 28.0 * mx, sy(cy) - 28.0 * my);
-        // travel arrow along the span, outside the loop
-        let (tx, ty) = if clockwise {
-            (a.0 - b.0, a.1 - b.1)
-        } else {
-            (b.0 - a.0, b.1 - a.1)
-        };
-        let t = tx.hypot(ty);
-        let (tx, ty) = (tx / t * 50.0, -ty / t * 50.0);
-        let (ax, ay) = (sx(cx) + 12.0 * mx, sy(cy) - 12.0 * my);
-        svg.push_str(&format!(
-            "<line x1=\"{:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" stroke=\"#333\" marker-end=\"url(#arr)\"/>\
-             <text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"middle\">span {}</text>\n",
-            ax - tx / 2.0,
-            ay - ty / 2.0,
-            ax + tx / 2.0,
-            ay + ty / 2.0,
-            lx + tx.signum() * 0.0,
-            ly + 5.0 + 6.0 * my.signum().abs() * if my < 0.0 { 1.0 } else { -0.3 },
-            k + 1
-        ));
-    }
-    // Body 1 starts span 1 at pulley 1.
-    let b1 = spans[0].0;
-    svg.push_str(&format!(
-        "<circle cx=\"{:.1}\" cy=\"{:.1}\" r=\"5\" fill=\"#c00\"/>\
-         <text x=\"{:.1}\" y=\"{:.1}\" fill=\"#c00\">body 1</text>\n",
-        sx(b1.0),
-        sy(b1.1),
-        sx(b1.0) - 70.0,
-        sy(b1.1) + 18.0
-    ));
-    // Axes at pulley 1's centre, and the sign convention.
-    let (ax, ay) = (30.0, h - 25.0);
-    svg.push_str(&format!(
-        "<line x1=\"{ax}\" y1=\"{ay}\" x2=\"{}\" y2=\"{ay}\" stroke=\"#333\" marker-end=\"url(#arr)\"/>\
-         <text x=\"{}\" y=\"{}\">x</text>\
-         <line x1=\"{ax}\" y1=\"{ay}\" x2=\"{ax}\" y2=\"{}\" stroke=\"#333\" marker-end=\"url(#arr)\"/>\
-         <text x=\"{}\" y=\"{}\">y</text>\
-         <path d=\"M{},{} A14,14 0 1 0 {},{}\" fill=\"none\" stroke=\"#333\" marker-end=\"url(#arr)\"/>\
-         <text x=\"{}\" y=\"{}\">+ angle, speed, torque: counter-clockwise</text>\
-         <text x=\"{}\" y=\"{}\">arrows on the spans: direction of belt travel ({})</text>\n",
-        ax + 40.0,
-        ax + 44.0,
-        ay + 4.0,
-        ay - 40.0,
-        ax - 4.0,
-        ay - 44.0,
-        ax + 80.0,
-        ay - 10.0,
-        ax + 70.0,
-        ay - 24.0,
-        ax + 100.0,
-        ay - 18.0,
-        ax + 100.0,
-        ay + 2.0,
-        if clockwise { "clockwise" } else { "counter-clockwise" }
-    ));
-    svg.push_str("</svg>\n");
-    Ok(svg)
-}
-
 /// Relative targets of the links and images of rendered HTML.
 fn relative_targets(html: &str) -> Vec<String> {
     let mut out = Vec::new();
@@ -357,7 +188,13 @@ pub fn documentation(xml: &str, manual: &str, docs: &Path) -> Result<Vec<(String
         let t = line.trim();
         let block = match t {
             "<!-- fmu:about -->" => Some(about.clone()),
-            "<!-- fmu:drawing -->" => Some(drive_svg(&info)?),
+            // The drawing of the default drive, `cargo xtask layout` on the
+            // physics core's layout (docs/layout.md; tests/drawing.rs checks
+            // it is current).
+            "<!-- fmu:drawing -->" => Some(
+                std::fs::read_to_string(docs.join(DEFAULT_DRAWING))
+                    .map_err(|e| format!("docs/{DEFAULT_DRAWING}: {e}"))?,
+            ),
             "<!-- fmu:parameters -->" => {
                 Some(variable_table(&info, |v| v.causality == "parameter", true))
             }

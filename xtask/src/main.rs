@@ -30,9 +30,13 @@
 //! * `modes -- [--ssv FILE] [--set NAME=VALUE ...] [--speeds FROM:TO:N] [--at TIME]`:
 //!   the modal analysis (`examples/modes.rs`), `dist/modes.csv` and, with
 //!   `--speeds`, the Campbell diagram `dist/campbell.png` (docs/modes.md).
+//! * `layout -- [--ssv FILE] [--set NAME=VALUE ...] [--names A,B,...] [--out FILE.svg]`:
+//!   a drawing of the mounted drive, `dist/layout.svg` and `dist/layout.png`
+//!   (`examples/layout.rs`, docs/layout.md).
 
 mod bench;
 mod docs;
+mod drawing;
 #[cfg(test)]
 mod hygiene;
 mod icon;
@@ -523,8 +527,9 @@ fn main() {
         Some("modes") => modes(&args[1..]),
         Some("sweep") => sweep(&args[1..]),
         Some("model-description") => model_description(),
+        Some("layout") => drawing::layout(&args[1..]).map(|_| ()),
         _ => Err(
-            "usage: cargo xtask <fmu|venv|run|validate|crosscheck|fmi-sim|test|valgrind|bench|sweep|modes|model-description>"
+            "usage: cargo xtask <fmu|venv|run|validate|crosscheck|fmi-sim|test|valgrind|bench|sweep|modes|model-description|layout>"
                 .into(),
         ),
     };
