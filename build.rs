@@ -9,13 +9,13 @@
 //! * `$OUT_DIR/variables.rs`, included by `src/fmu/variables.rs`: the variable
 //!   table, `Var` (one variant per base name), `lookup`, `by_name`;
 //! * `$OUT_DIR/modelDescription.xml`, the description with its GUID;
-//! * `$OUT_DIR/param_ranges.rs`, included by `src/belt/param_id.rs`: each
+//! * `$OUT_DIR/param_ranges.rs`, included by `src/model/param_id.rs`: each
 //!   parameter id's declared range and unit (`Param::declared`), and
-//!   `$OUT_DIR/param_starts.rs`, included by `src/belt/params.rs`: each id's
+//!   `$OUT_DIR/param_starts.rs`, included by `src/model/params.rs`: each id's
 //!   start value (`Param::start`, the core's defaults), and
 //!   `$OUT_DIR/param_variables.rs`, included by `src/fmu/names.rs`: each
 //!   id's variable (`var_of`) and the decoding of the coded Integers, and
-//!   `$OUT_DIR/param_list.rs`, included by `src/belt/param_id.rs`: the
+//!   `$OUT_DIR/param_list.rs`, included by `src/model/param_id.rs`: the
 //!   parameter ids with their engineering names, all from the registry.
 
 use std::path::PathBuf;

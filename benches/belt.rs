@@ -34,10 +34,10 @@
 //! `valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*rhs_loop*' <bench binary> count-rhs 150 2000`.
 
 mod common;
-use belt_drive::belt::params::Method;
-use belt_drive::belt::simd::Isa as SimdBuild;
-use belt_drive::belt::system::{NoRecord, Workspace};
-use belt_drive::belt::{Drive, DriveParams, FrictionLaw, Inputs, Outputs};
+use belt_drive::model::params::Method;
+use belt_drive::model::simd::Isa as SimdBuild;
+use belt_drive::model::system::{NoRecord, Workspace};
+use belt_drive::{Drive, DriveParams, FrictionLaw, Inputs, Outputs};
 use common::{cpu_time, median};
 
 /// Options of the integrator runs.

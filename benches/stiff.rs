@@ -11,12 +11,12 @@
 //! `valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*stiff*integrate*' <bench binary> scaling5pk 600`.
 
 mod common;
-use belt_drive::belt::drive::Integrator;
-use belt_drive::belt::iteration_matrix::IterationMatrix;
-use belt_drive::belt::jacobian::Jacobian;
-use belt_drive::belt::params::Method;
-use belt_drive::belt::system::{NoRecord, Workspace};
-use belt_drive::belt::{Drive, DriveParams, FrictionLaw};
+use belt_drive::drive::Integrator;
+use belt_drive::model::params::Method;
+use belt_drive::model::system::{NoRecord, Workspace};
+use belt_drive::solver::iteration_matrix::IterationMatrix;
+use belt_drive::solver::jacobian::Jacobian;
+use belt_drive::{Drive, DriveParams, FrictionLaw};
 use common::{cpu_time, median};
 use std::hint::black_box;
 use std::time::Instant;

@@ -1,4 +1,4 @@
-"""Coefficients of the sin/cos polynomials in src/belt/trig.rs.
+"""Coefficients of the sin/cos polynomials in src/model/trig.rs.
 
 Minimax fits on [0, pi/4] by Lawson's iteration (weighted least squares whose
 weights grow where the error is largest) in 50-digit arithmetic (mpmath):

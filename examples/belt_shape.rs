@@ -18,9 +18,9 @@
 use std::fmt::Write as _;
 use std::io::Write as _;
 
-use belt_drive::belt::params::Method;
-use belt_drive::belt::system::{Recorder, Workspace, BODY_DOF};
-use belt_drive::belt::{Drive, DriveParams};
+use belt_drive::model::params::Method;
+use belt_drive::model::system::{Recorder, Workspace, BODY_DOF};
+use belt_drive::{Drive, DriveParams};
 
 /// SDE tensions of one right-hand-side evaluation.
 struct Tensions(Vec<f64>);

@@ -22,7 +22,7 @@ mod ssv;
 #[path = "common/body_passing.rs"]
 mod body_passing;
 
-use belt_drive::belt::params::Method;
+use belt_drive::model::params::Method;
 
 fn run(set: &str, rpm: f64, method: Method) {
     let (p, f_bp, signals) = body_passing::measure(set, rpm, method);

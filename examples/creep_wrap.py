@@ -70,7 +70,7 @@ def smoothstep(x):
 
 
 def mu(z, v_t, mu_s=None, mu_k=None):
-    """The `creep` law (src/belt/elements/friction/creep.rs), z > 0: belt lags."""
+    """The `creep` law (src/model/elements/friction/creep.rs), z > 0: belt lags."""
     mu_s = MU_S if mu_s is None else mu_s
     mu_k = MU_K if mu_k is None else mu_k
     u = z / DMAX

@@ -7,8 +7,8 @@
 //!
 //! `cargo run --profile ci --example default_drive -- M H [T [F]]`, F =
 //! `belt.shearDampingFactor` (default: the model description's start value).
-use belt_drive::belt::params::Method;
-use belt_drive::belt::{Drive, DriveParams};
+use belt_drive::model::params::Method;
+use belt_drive::{Drive, DriveParams};
 
 fn cpu() -> f64 {
     let mut ts = libc::timespec {

@@ -15,9 +15,9 @@
 //! run-up (`-`: the ramp time + 0.3 s, 0.6 s for `heavy`); the substep
 //! counts; then NAME=VALUE settings (FMU names for an .ssv; `creepMax`,
 //! `creepDampingTime`, `n`, `method`, `load` for the test drives).
-use belt_drive::belt::params::Method;
-use belt_drive::belt::DriveParams;
+use belt_drive::model::params::Method;
 use belt_drive::modes::{adapter, floquet, params, Options};
+use belt_drive::DriveParams;
 
 #[path = "common/heavy_running.rs"]
 mod heavy_running;

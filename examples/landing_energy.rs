@@ -10,9 +10,9 @@
 //! when not given; relTol 1e-4, means over 0.3-0.5 s; `off` runs the stiff
 //! method without its energy check).
 
-use belt_drive::belt::params::Method;
-use belt_drive::belt::system::{BeltSystem, Recorder, Workspace};
-use belt_drive::belt::Drive;
+use belt_drive::model::params::Method;
+use belt_drive::model::system::{BeltSystem, Recorder, Workspace};
+use belt_drive::Drive;
 
 #[path = "common/sixty_body.rs"]
 mod sixty_body;

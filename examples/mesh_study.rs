@@ -27,8 +27,8 @@
 //! `bodies=loss` in % (`loss/loss/loss` for the accessory drive's three
 //! pulleys).
 
-use belt_drive::belt::params::Method;
-use belt_drive::belt::{Drive, DriveParams};
+use belt_drive::model::params::Method;
+use belt_drive::{Drive, DriveParams};
 
 #[path = "common/two_to_one.rs"]
 mod drives;

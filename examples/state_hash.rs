@@ -16,7 +16,7 @@
 use belt_drive::fmi::FmuModel;
 use belt_drive::fmu::variables::{by_name, VarType};
 use belt_drive::fmu::BeltDrive;
-use belt_drive::belt::Drive;
+use belt_drive::Drive;
 
 /// A drive: a parameter file (or none: the FMU's start values) and
 /// variables set on top, by the names of the model description.
@@ -90,8 +90,8 @@ const CASES: &[Case] = &[
         set: &[("belt.nBodies", "400")],
     },
     Case {
-        name: "friction-kubas2014",
-        file: None,
+        name: "section3-kubas2014-law",
+        file: Some("kubas2014-section3.ssv"),
         set: &[("friction.law", "1")],
     },
 ];

@@ -22,13 +22,13 @@
 #[path = "common/ssv.rs"]
 mod ssv;
 
-use belt_drive::belt::drive::Integrator;
-use belt_drive::belt::params::Method;
-use belt_drive::belt::rkf45::Rkf45;
-use belt_drive::belt::solver_params::TUNING;
-use belt_drive::belt::stepping::Trial;
-use belt_drive::belt::system::{BeltSystem, Workspace, BODY_DOF};
-use belt_drive::belt::{Drive, DriveParams};
+use belt_drive::drive::Integrator;
+use belt_drive::model::params::Method;
+use belt_drive::model::system::{BeltSystem, Workspace, BODY_DOF};
+use belt_drive::solver::knobs::TUNING;
+use belt_drive::solver::rkf45::Rkf45;
+use belt_drive::solver::step_control::Trial;
+use belt_drive::{Drive, DriveParams};
 
 /// The measured window after the settling [s].
 const WINDOW: f64 = 0.1;

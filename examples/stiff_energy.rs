@@ -16,9 +16,9 @@
 //! along a body (`-` or absent: the drive's own); `off` runs the stiff
 //! method without its energy check. Further arguments `shear=F` and
 //! `bend=B` set `belt.shearDampingFactor` and `belt.bendingDamping`.
-use belt_drive::belt::drive::Integrator;
-use belt_drive::belt::params::Method;
-use belt_drive::belt::{Drive, DriveParams, Inputs};
+use belt_drive::drive::Integrator;
+use belt_drive::model::params::Method;
+use belt_drive::{Drive, DriveParams, Inputs};
 
 #[path = "common/heavy_belt.rs"]
 mod heavy_belt;
@@ -92,7 +92,7 @@ fn main() {
     let om: Vec<f64> = (0..np)
         .map(|j| (last.pulleys[j].angle - o0.pulleys[j].angle) / (t1 - t0))
         .collect();
-    let bal = |o: &belt_drive::belt::Outputs| {
+    let bal = |o: &belt_drive::Outputs| {
         o.energy_input - o.energy_dissipated - o.kinetic_energy - o.potential_energy
     };
     let s = d.stats();

@@ -11,9 +11,9 @@
 //! `cargo run --release --example tension_sum -- [bodies] [method 1|2]
 //! [relTol] [law creep|kubas2014] [dv]`
 
-use belt_drive::belt::params::Method;
-use belt_drive::belt::system::{Recorder, Workspace};
-use belt_drive::belt::{Drive, DriveParams, FrictionLaw};
+use belt_drive::model::params::Method;
+use belt_drive::model::system::{Recorder, Workspace};
+use belt_drive::{Drive, DriveParams, FrictionLaw};
 
 /// Per-snapshot record: SDE tensions and gap midpoints, penetrations and
 /// normal forces of the contacts.

@@ -23,9 +23,9 @@
 
 use std::f64::consts::TAU;
 
-use belt_drive::belt::params::Method;
-use belt_drive::belt::system::{Recorder, Workspace, BODY_DOF};
-use belt_drive::belt::{Drive, DriveParams};
+use belt_drive::model::params::Method;
+use belt_drive::model::system::{Recorder, Workspace, BODY_DOF};
+use belt_drive::{Drive, DriveParams};
 
 #[path = "common/two_to_one.rs"]
 mod drives;

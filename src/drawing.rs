@@ -10,9 +10,9 @@
 //! sets their level. No centrifugal or dynamic part: the simulation gives
 //! those (`span[k].tension`).
 
-use crate::belt::layout::Layout;
-use crate::belt::params::DriveParams;
-use crate::belt::ParamError;
+use crate::model::layout::Layout;
+use crate::model::params::DriveParams;
+use crate::ParamError;
 use std::f64::consts::{PI, TAU};
 use std::fmt::Write;
 

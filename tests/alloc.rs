@@ -1,8 +1,8 @@
 //! The hot path (right-hand side and integrator steps) allocates nothing.
 
-use belt_drive::belt::params::Method;
-use belt_drive::belt::system::{NoRecord, Workspace};
-use belt_drive::belt::{Drive, DriveParams};
+use belt_drive::model::params::Method;
+use belt_drive::model::system::{NoRecord, Workspace};
+use belt_drive::{Drive, DriveParams};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 

@@ -10,11 +10,11 @@
 
 mod common;
 
-use belt_drive::belt::params::{Method, PulleyParams};
-use belt_drive::belt::{Drive, DriveParams, Inputs};
 use belt_drive::fmi::FmuModel;
 use belt_drive::fmu::variables::{by_name, VarType};
 use belt_drive::fmu::BeltDrive;
+use belt_drive::model::params::{Method, PulleyParams};
+use belt_drive::{Drive, DriveParams, Inputs};
 use common::Averages;
 
 /// The heavy belt of issue 16: 0.8 kg/m, EA 7.6 kN, two 100 mm (radius)

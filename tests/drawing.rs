@@ -2,10 +2,10 @@
 //! shipped parameter set: what the SVG draws and writes is checked against
 //! the core's layout, read back from the SVG text itself.
 
-use belt_drive::belt::layout::Layout;
-use belt_drive::belt::DriveParams;
 use belt_drive::drawing::{arc_angle, draw, static_tensions, Side};
+use belt_drive::model::layout::Layout;
 use belt_drive::modes::params::drive_params;
+use belt_drive::DriveParams;
 use std::path::PathBuf;
 
 /// The value of attribute `name` in the tag starting at `tag`.

@@ -6,8 +6,8 @@
 
 mod common;
 
-use belt_drive::belt::system::BODY_DOF;
-use belt_drive::belt::{Drive, DriveParams, FrictionLaw};
+use belt_drive::model::system::BODY_DOF;
+use belt_drive::{Drive, DriveParams, FrictionLaw};
 use common::*;
 use std::f64::consts::PI;
 
@@ -229,7 +229,7 @@ fn span_moving_string_frequency() {
 /// -80 rad/s at the crank over 0.2 s, hold, then decelerate at 800 rad/s^2
 /// from 0.3 s to 0.35 s (the alternator at 1870 rad/s^2: its rotor needs
 /// 5.6 N m to follow, three times its load).
-fn decel_drive(decoupler: bool, method: belt_drive::belt::params::Method) -> DriveParams {
+fn decel_drive(decoupler: bool, method: belt_drive::model::params::Method) -> DriveParams {
     let mut p = small_drive(FrictionLaw::Creep);
     p.belt.n_bodies = 80;
     p.pulleys[0].radius = 0.07;
@@ -257,7 +257,7 @@ struct DecelRun {
     min_decoupler_torque: f64,
     /// Energy balance residual over the whole run, relative to the work in.
     energy_residual: f64,
-    last: belt_drive::belt::Outputs,
+    last: belt_drive::Outputs,
 }
 
 fn run_decel(p: &DriveParams) -> DecelRun {
@@ -312,7 +312,7 @@ fn run_decel(p: &DriveParams) -> DecelRun {
 /// energy balance closes with the decoupler's spring and dissipation.
 #[test]
 fn decoupler_overruns_under_crank_deceleration() {
-    use belt_drive::belt::params::Method;
+    use belt_drive::model::params::Method;
     let (rigid, dec) = std::thread::scope(|s| {
         let h = s.spawn(|| run_decel(&decel_drive(false, Method::Rkf45)));
         let dec = run_decel(&decel_drive(true, Method::Rkf45));

@@ -1,9 +1,9 @@
 //! Belt path construction and refusal of impossible drives.
 
-use belt_drive::belt::layout::Layout;
-use belt_drive::belt::params::PulleyParams;
-use belt_drive::belt::{Drive, DriveParams};
 use belt_drive::fmu::names;
+use belt_drive::model::layout::Layout;
+use belt_drive::model::params::PulleyParams;
+use belt_drive::{Drive, DriveParams};
 use std::f64::consts::PI;
 
 fn err_of(p: &DriveParams) -> (String, String) {

@@ -8,8 +8,8 @@
 //! Run with `cargo test --profile ci --test mesh` (35-65 s of wall time
 //! on the shared machine: the stiff method at relTol 1e-5, as in the study).
 
-use belt_drive::belt::params::Method;
-use belt_drive::belt::{Drive, DriveParams};
+use belt_drive::model::params::Method;
+use belt_drive::{Drive, DriveParams};
 
 #[path = "../examples/common/two_to_one.rs"]
 mod drives;

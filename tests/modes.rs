@@ -11,10 +11,10 @@ mod heavy;
 #[path = "../examples/common/span_growth.rs"]
 mod span_growth;
 
-use belt_drive::belt::params::Method;
-use belt_drive::belt::solver_params::TUNING;
-use belt_drive::belt::{Drive, DriveParams};
+use belt_drive::model::params::Method;
 use belt_drive::modes::{adapter, analyse, floquet, Mode, Modes, Options, Orbit, Part};
+use belt_drive::solver::knobs::TUNING;
+use belt_drive::{Drive, DriveParams};
 use heavy::heavy_running;
 use span_growth::kicked_growth;
 
@@ -161,7 +161,7 @@ fn rotational_mode_is_two_inertias_on_two_spans() {
 
 /// The rotational mode's damping ratio against the belt's Kelvin-Voigt law.
 /// Each element's damping force is B / l times its stretch rate beside its
-/// stiffness EA / l (src/belt/elements/sde.rs): damping proportional to
+/// stiffness EA / l (src/model/elements/sde.rs): damping proportional to
 /// stiffness, c / k = B / EA, so a mode whose strain energy sits in the belt
 /// elements has zeta = omega B / (2 EA) (here B = 20.5 * 8 mm = 0.164 N s,
 /// EA = 1.5e5 N), whatever its inertias and span lengths. The creep law's

@@ -3,9 +3,9 @@
 
 mod common;
 
-use belt_drive::belt::system::BODY_DOF;
-use belt_drive::belt::{Drive, DriveParams, FrictionLaw};
 use belt_drive::fmu::names;
+use belt_drive::model::system::BODY_DOF;
+use belt_drive::{Drive, DriveParams, FrictionLaw};
 use common::*;
 use std::f64::consts::PI;
 

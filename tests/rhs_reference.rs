@@ -19,12 +19,12 @@
 //! law, a missed contact, a wrong sign or lever) is many orders of
 //! magnitude larger than either.
 
-use belt_drive::belt::elements::friction::Law;
-use belt_drive::belt::elements::tensioner::FRICTION_RATE;
-use belt_drive::belt::params::{PulleyParams, MAX_PULLEYS};
-use belt_drive::belt::simd::Isa;
-use belt_drive::belt::system::{BeltSystem, Inputs, Recorder, Relaxation, Workspace, BODY_DOF};
-use belt_drive::belt::{Drive, DriveParams, FrictionLaw};
+use belt_drive::model::elements::friction::Law;
+use belt_drive::model::elements::tensioner::FRICTION_RATE;
+use belt_drive::model::params::{PulleyParams, MAX_PULLEYS};
+use belt_drive::model::simd::Isa;
+use belt_drive::model::system::{BeltSystem, Inputs, Recorder, Relaxation, Workspace, BODY_DOF};
+use belt_drive::{Drive, DriveParams, FrictionLaw};
 use std::collections::BTreeMap;
 use std::f64::consts::TAU;
 
@@ -503,7 +503,7 @@ fn compare(sys: &BeltSystem, lever: &[(f64, f64)], t: f64, y: &[f64], label: &st
         t,
         y,
         &mut dy,
-        &mut belt_drive::belt::system::NoRecord,
+        &mut belt_drive::model::system::NoRecord,
     );
     // Every build of the same code the CPU can run (baseline SSE2, AVX2,
     // AVX-512) gives the same bits as the one the dispatch picked.
@@ -515,7 +515,7 @@ fn compare(sys: &BeltSystem, lever: &[(f64, f64)], t: f64, y: &[f64], label: &st
             t,
             y,
             &mut dy_build,
-            &mut belt_drive::belt::system::NoRecord,
+            &mut belt_drive::model::system::NoRecord,
         );
         assert!(ran || build != Isa::Baseline);
         if !ran {

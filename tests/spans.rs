@@ -4,7 +4,7 @@
 
 mod common;
 
-use belt_drive::belt::{Drive, DriveParams};
+use belt_drive::{Drive, DriveParams};
 
 /// A heavy, slack belt on two equal pulleys at rest: 1 kg/m under 100 N,
 /// pulleys of 50 mm 0.6 m apart (spans of 0.6 m above and below), 150

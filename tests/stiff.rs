@@ -3,8 +3,8 @@
 
 mod common;
 
-use belt_drive::belt::params::Method;
-use belt_drive::belt::{DriveParams, FrictionLaw};
+use belt_drive::model::params::Method;
+use belt_drive::{DriveParams, FrictionLaw};
 use common::*;
 
 fn with_method(mut p: DriveParams, method: Method, rel_tol: f64) -> DriveParams {
@@ -96,7 +96,7 @@ fn restore_continues_bit_identically() {
         a.stats(),
         a.integrator_data(),
     );
-    let mut b = belt_drive::belt::Drive::mounted(&p, 0.0).unwrap();
+    let mut b = belt_drive::Drive::mounted(&p, 0.0).unwrap();
     assert!(b.restore(t, &y, a.window(), inputs, h, stats, &data));
     for k in k + 1..=k + 23 {
         a.advance(k as f64 * 1.3e-3).unwrap();
@@ -105,7 +105,7 @@ fn restore_continues_bit_identically() {
     assert_eq!(a.state(), b.state());
     assert_eq!(a.stats(), b.stats());
     // Data that does not fit is refused.
-    let mut c = belt_drive::belt::Drive::mounted(&p, 0.0).unwrap();
+    let mut c = belt_drive::Drive::mounted(&p, 0.0).unwrap();
     assert!(!c.restore(t, &y, a.window(), inputs, h, stats, &data[..data.len() - 1]));
 }
 
@@ -184,7 +184,7 @@ fn input_energy_is_the_inputs_work() {
         driven[0].load_damping = 0.01;
         driven[0].torque_ramp = 2.0;
         driven[0].ramp_time = 0.1;
-        let mut d = belt_drive::belt::Drive::new(&p, 0.0).expect("valid drive");
+        let mut d = belt_drive::Drive::new(&p, 0.0).expect("valid drive");
         let h = 1e-3;
         d.advance(0.1).expect("runs up");
         let mut before = d.outputs();

@@ -6,8 +6,8 @@
 
 mod common;
 
-use belt_drive::belt::params::{Method, PulleyParams};
-use belt_drive::belt::{Drive, DriveParams, Inputs, Outputs};
+use belt_drive::model::params::{Method, PulleyParams};
+use belt_drive::{Drive, DriveParams, Inputs, Outputs};
 use common::arm::*;
 use common::*;
 

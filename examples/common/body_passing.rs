@@ -2,8 +2,8 @@
 //! examples/body_passing.rs and tests/mesh.rs, included with `#[path]`; the
 //! including crate declares `mod ssv` from examples/common/ssv.rs).
 
-use belt_drive::belt::params::Method;
-use belt_drive::belt::{Drive, DriveParams};
+use belt_drive::model::params::Method;
+use belt_drive::{Drive, DriveParams};
 use std::f64::consts::PI;
 
 /// Sampling interval [s] and window [s].

@@ -2,7 +2,7 @@
 //! examples/wrap_profile.rs and examples/stiff_energy.rs: included with
 //! `#[path]`, so each keeps one definition.
 
-use belt_drive::belt::DriveParams;
+use belt_drive::DriveParams;
 
 /// A 60 mm crank speed-driven to 150 rad/s over 0.1 s, the default driven
 /// pulley 0.35 m away loaded by 0.01 N m s/rad, belt 0.3 kg/m, 120 bodies.

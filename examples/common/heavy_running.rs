@@ -2,8 +2,8 @@
 //! shared by examples/floquet_substeps.rs and tests/modes.rs: included with
 //! `#[path]`, so each keeps one definition.
 
-use belt_drive::belt::params::Method;
-use belt_drive::belt::DriveParams;
+use belt_drive::model::params::Method;
+use belt_drive::DriveParams;
 
 /// A heavy belt (0.5 kg/m) under 100 N on two 50 mm pulleys 0.4 m apart,
 /// pulley 1 speed-driven to -140 rad/s over 0.1 s, pulley 2 free and

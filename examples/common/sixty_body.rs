@@ -3,7 +3,7 @@
 //! examples/stiff_energy.rs: included
 //! with `#[path]`, so each keeps one definition.
 
-use belt_drive::belt::DriveParams;
+use belt_drive::DriveParams;
 
 /// Two 50 mm pulleys 0.25 m apart, 300 N preload, 60 bodies, pulley 1
 /// driven by 2 N m (reached over 0.05 s), pulley 2 loaded by 0.05 N m s/rad.

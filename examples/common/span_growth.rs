@@ -3,8 +3,8 @@
 //! the time domain"), shared by examples/span_growth.rs and tests/modes.rs:
 //! included with `#[path]`, so each keeps one definition.
 
-use belt_drive::belt::Drive;
 use belt_drive::modes::{adapter, Mode};
+use belt_drive::Drive;
 
 /// The time-domain growth of one mode.
 pub struct Growth {

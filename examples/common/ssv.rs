@@ -4,10 +4,10 @@
 
 use std::path::Path;
 
-use belt_drive::belt::DriveParams;
 use belt_drive::fmi::FmuModel;
 use belt_drive::fmu::variables::{by_name, VarType};
 use belt_drive::fmu::BeltDrive;
+use belt_drive::DriveParams;
 
 /// The parameters of `parameters/<file>` set through the FMU's own variables.
 pub fn from_ssv(file: &str) -> DriveParams {

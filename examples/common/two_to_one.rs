@@ -2,8 +2,8 @@
 //! mesh"), shared by examples/mesh_study.rs, examples/wrap_profile.rs and
 //! tests/mesh.rs: included with `#[path]`, so each keeps one definition.
 
-use belt_drive::belt::params::PulleyParams;
-use belt_drive::belt::DriveParams;
+use belt_drive::model::params::PulleyParams;
+use belt_drive::DriveParams;
 
 /// The 2:1 drive: 40 mm pulley speed-driven at -40 rad/s (0.1 s ramp), 80 mm
 /// pulley loaded by a viscous 30 N m at its speed; 5PK belt, 500 N preload.

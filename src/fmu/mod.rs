@@ -13,11 +13,11 @@ pub mod names;
 mod snapshot;
 pub mod variables;
 
-use crate::belt::drive::Outputs;
-use crate::belt::param_id::Param;
-use crate::belt::params::{self, PulleyParams, MAX_PULLEYS, PROBE_AUTO};
-use crate::belt::{Drive, DriveParams, Inputs};
+use crate::drive::Outputs;
 use crate::fmi::{FmuModel, ModelDescription, StepError};
+use crate::model::param_id::Param;
+use crate::model::params::{self, PulleyParams, MAX_PULLEYS, PROBE_AUTO};
+use crate::{Drive, DriveParams, Inputs};
 use variables::{Start, Var, VarInfo, MODEL_DESCRIPTION, VARIABLES};
 
 /// Integer parameters as the user set them; checked against the ranges of
@@ -507,7 +507,7 @@ impl FmuModel for BeltDrive {
 mod tests {
     use super::variables::{by_name, Causality, VarType};
     use super::*;
-    use crate::belt::params::MAX_BODIES;
+    use crate::model::params::MAX_BODIES;
 
     /// The ranges the model description shows importers are the core's.
     #[test]

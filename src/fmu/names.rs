@@ -4,10 +4,10 @@
 //! the enumerated Integer parameters.
 
 use super::variables::{Var, VARIABLES};
-use crate::belt::param_id::{Message, Param, Spelling};
-use crate::belt::params::{FrictionLaw, Method};
-use crate::belt::stepping::StepFailure;
-use crate::belt::ParamError;
+use crate::model::param_id::{Message, Param, Spelling};
+use crate::model::params::{FrictionLaw, Method};
+use crate::solver::step_control::StepFailure;
+use crate::ParamError;
 
 // `fn var_of(p: Param) -> (Var, usize)`: the variable behind a parameter id
 // and its array index; `decode_friction_law`, `encode_friction_law`,
@@ -78,14 +78,14 @@ pub fn method_code(m: Method) -> i32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::belt::{Drive, DriveParams};
+    use crate::{Drive, DriveParams};
 
     /// Every parameter id names a variable of the table (none falls back to
     /// the core's spelling), and the codes round-trip.
     #[test]
     fn every_id_is_a_variable() {
         use Param::*;
-        let ids: Vec<Param> = Param::all(crate::belt::params::MAX_PULLEYS).collect();
+        let ids: Vec<Param> = Param::all(crate::model::params::MAX_PULLEYS).collect();
         assert!(ids.contains(&SolverMaxSteps) && ids.contains(&PulleyArmFriction(5)));
         for p in ids {
             let (var, index) = var_of(p);

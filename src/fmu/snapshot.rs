@@ -4,8 +4,8 @@
 //! continues bit-identically.
 
 use super::*;
-use crate::belt::drive::Window;
-use crate::belt::rkf45::Stats;
+use crate::drive::Window;
+use crate::solver::rkf45::Stats;
 
 /// 2: integrator data (the stiff method's kept Jacobian) after the state;
 /// 3: the tensioner springs' free angles found by the mounting after that;

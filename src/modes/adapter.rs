@@ -2,9 +2,9 @@
 //! run it, and read its state, its state layout and its dense Jacobian.
 //! Everything else in `modes` works on the [`Linearisation`] this returns.
 
-use crate::belt::jacobian::Jacobian;
-use crate::belt::system::BODY_DOF;
-use crate::belt::{Drive, DriveParams};
+use crate::model::system::BODY_DOF;
+use crate::solver::jacobian::Jacobian;
+use crate::{Drive, DriveParams};
 
 /// Values per body in the state (x, y, phi, vx, vy, omega, z).
 pub const BODY_STATES: usize = BODY_DOF;

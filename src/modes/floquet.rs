@@ -51,9 +51,9 @@
 
 use super::adapter::{self, Linearisation, BODY_STATES};
 use super::{classify, regions, Mode, Modes, Options};
-use crate::belt::drive::Window;
-use crate::belt::params::MAX_PULLEYS;
-use crate::belt::Drive;
+use crate::drive::Window;
+use crate::model::params::MAX_PULLEYS;
+use crate::Drive;
 use faer::linalg::solvers::{Eigen, Solve};
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{c64, Mat};

@@ -2,10 +2,10 @@
 //! parameter set (.ssv) and `NAME=VALUE` overrides, all applied through the
 //! FMU's own setters, so every name and check is the one an importer meets.
 
-use crate::belt::DriveParams;
 use crate::fmi::FmuModel;
 use crate::fmu::variables::{by_name, Causality, VarType};
 use crate::fmu::BeltDrive;
+use crate::DriveParams;
 use std::path::Path;
 
 /// (name, element, value) of every `ssv:Parameter` in an .ssv file, the

@@ -2,9 +2,9 @@
 //! stiffness on the belt, shared by the tensioner and modal-analysis tests.
 
 use super::small_drive;
-use belt_drive::belt::layout::Layout;
-use belt_drive::belt::params::PulleyParams;
-use belt_drive::belt::{DriveParams, FrictionLaw};
+use belt_drive::model::layout::Layout;
+use belt_drive::model::params::PulleyParams;
+use belt_drive::{DriveParams, FrictionLaw};
 
 /// Three-pulley drive unlike the paper's: crank (r 60 mm) at the origin,
 /// load pulley (r 40 mm) 0.32 m to its right, idler (r 35 mm) above between

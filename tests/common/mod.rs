@@ -4,8 +4,8 @@
 
 pub mod arm;
 
-use belt_drive::belt::params::PulleyParams;
-use belt_drive::belt::{Drive, DriveParams, FrictionLaw, Inputs, Outputs};
+use belt_drive::model::params::PulleyParams;
+use belt_drive::{Drive, DriveParams, FrictionLaw, Inputs, Outputs};
 
 /// A two-pulley drive with the paper's 5PK belt properties but longer
 /// bodies (r = 50 mm, 0.25 m apart, 40 bodies): the same physics as the

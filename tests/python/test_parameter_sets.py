@@ -3,7 +3,7 @@
 units' SI exponents those of the model description, and each set applied
 with examples/simulate_ssv.py (the README's recipe) simulates a few
 milliseconds. (tests/parameter_sets.rs checks the values of the paper's two
-drives against src/belt/params.rs.)"""
+drives against src/model/params.rs.)"""
 import math
 import xml.etree.ElementTree as ET
 

@@ -13,7 +13,7 @@
 //!   (the file in the repository is this text, checked by a test and by
 //!   `build.rs`; `cargo xtask model-description` rewrites it);
 //! * [`param_list`]: the core's parameter ids with their engineering names
-//!   (the `params!` invocation `src/belt/param_id.rs` includes);
+//!   (the `params!` invocation `src/model/param_id.rs` includes);
 //! * [`param_ids`], [`param_codes`]: the ids with their variables and the
 //!   codes of the coded Integers, which [`crate::param_tables`] turns into
 //!   ranges, start values and the adapter's look-ups.

@@ -142,7 +142,7 @@ pub struct Message(pub Vec<Part>);
 /// Builds a [`Message`] from pieces that convert into [`Part`].
 macro_rules! msg {
     ($($part:expr),* $(,)?) => {
-        $crate::belt::param_id::Message(vec![$($crate::belt::param_id::Part::from($part)),*])
+        $crate::model::param_id::Message(vec![$($crate::model::param_id::Part::from($part)),*])
     };
 }
 pub(crate) use msg;

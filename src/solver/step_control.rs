@@ -1,9 +1,9 @@
-//! Adaptive step-size control shared by the integrators ([`super::rkf45`],
-//! [`super::rosenbrock`]): the ODE interface, counters, failures, and the
+//! Adaptive step-size control shared by the integrators ([`crate::solver::rkf45`],
+//! [`crate::solver::rosenbrock`]): the ODE interface, counters, failures, and the
 //! driver that steps to exactly a target time, carries the step size across
 //! calls, and restores the state when a call fails.
 
-use super::solver_params::TUNING;
+use crate::solver::knobs::TUNING;
 
 /// An ODE y' = f(t, y) with a discrete update after each accepted step.
 pub trait OdeSystem {
@@ -68,9 +68,9 @@ pub enum StepFailure {
 impl StepFailure {
     /// The parameter that bounds what failed, if one does (the step-count
     /// guard).
-    pub fn parameter(&self) -> Option<crate::belt::param_id::Param> {
+    pub fn parameter(&self) -> Option<crate::model::param_id::Param> {
         match self {
-            Self::TooManySteps { .. } => Some(crate::belt::param_id::Param::SolverMaxSteps),
+            Self::TooManySteps { .. } => Some(crate::model::param_id::Param::SolverMaxSteps),
             _ => None,
         }
     }

@@ -14,13 +14,13 @@
 //! the step is held by the stability limit of the bodies' fast modes, where
 //! the elementary controller alone oscillates about that limit and rejects
 //! every few steps; the knobs and the measured effect are in
-//! [`SolverTuning`](super::solver_params::SolverTuning) and
+//! [`SolverTuning`](crate::solver::knobs::SolverTuning) and
 //! docs/benchmarks.md.
 
-use super::simd::{self, Isa};
-use super::solver_params::TUNING;
-use super::stepping::{EmbeddedMethod, StepControl, Trial};
-pub use super::stepping::{OdeSystem, Stats, StepFailure};
+use crate::model::simd::{self, Isa};
+use crate::solver::knobs::TUNING;
+use crate::solver::step_control::{EmbeddedMethod, StepControl, Trial};
+pub use crate::solver::step_control::{OdeSystem, Stats, StepFailure};
 
 const C: [f64; 6] = [0.0, 0.25, 0.375, 12.0 / 13.0, 1.0, 0.5];
 const A2: [f64; 1] = [0.25];
@@ -74,12 +74,12 @@ pub struct Rkf45 {
     /// `err_accepted` at the start of the current call (restored on failure).
     err_at_call: f64,
     /// The PI controller's exponents and target error
-    /// ([`TUNING`](super::solver_params::TUNING)'s `rkf45_*`).
+    /// ([`TUNING`](crate::solver::knobs::TUNING)'s `rkf45_*`).
     pub pi: PiControl,
 }
 
 /// Exponents and target of the PI step-size controller, see
-/// [`SolverTuning::rkf45_beta1`](super::solver_params::SolverTuning::rkf45_beta1).
+/// [`SolverTuning::rkf45_beta1`](crate::solver::knobs::SolverTuning::rkf45_beta1).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PiControl {
     /// Exponent of the current error.
@@ -285,7 +285,7 @@ impl Rkf45 {
     }
 
     /// [`Self::advance`] with `observe` told of every trial step
-    /// ([`super::stepping::advance_observed`]; diagnostics).
+    /// ([`crate::solver::step_control::advance_observed`]; diagnostics).
     pub fn advance_observed<S: OdeSystem>(
         &mut self,
         sys: &S,
@@ -296,7 +296,7 @@ impl Rkf45 {
         observe: &mut dyn FnMut(&Self, Trial),
     ) -> Result<(), StepFailure> {
         self.err_at_call = self.err_accepted;
-        super::stepping::advance_observed(self, sys, ws, t, y, t_end, observe)
+        crate::solver::step_control::advance_observed(self, sys, ws, t, y, t_end, observe)
     }
 
     /// Diagnostics of the last trial step of size `h` from `y` (an
@@ -583,11 +583,17 @@ mod tests {
         let steps = rk.control.stats.steps;
         assert!((20..20_000).contains(&steps), "{steps} steps");
         assert!((y[0] - 1f64.cos()).abs() < 1e-9);
-        assert_eq!(crate::belt::stepping::step_budget(20, 1.0), 20_000);
-        assert_eq!(crate::belt::stepping::step_budget(20, 1e-5), 20);
-        assert_eq!(crate::belt::stepping::step_budget(20, 1.5e-3), 40);
-        assert_eq!(crate::belt::stepping::step_budget(20, 0.501 - 0.5), 20);
-        assert_eq!(crate::belt::stepping::step_budget(u64::MAX, 2.0), u64::MAX);
-        assert_eq!(crate::belt::stepping::step_budget(7, f64::NAN), 7);
+        assert_eq!(crate::solver::step_control::step_budget(20, 1.0), 20_000);
+        assert_eq!(crate::solver::step_control::step_budget(20, 1e-5), 20);
+        assert_eq!(crate::solver::step_control::step_budget(20, 1.5e-3), 40);
+        assert_eq!(
+            crate::solver::step_control::step_budget(20, 0.501 - 0.5),
+            20
+        );
+        assert_eq!(
+            crate::solver::step_control::step_budget(u64::MAX, 2.0),
+            u64::MAX
+        );
+        assert_eq!(crate::solver::step_control::step_budget(7, f64::NAN), 7);
     }
 }

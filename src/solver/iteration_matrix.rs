@@ -21,10 +21,10 @@
 //! Factoring costs a few hundred flops per body, each solve about sixty; no
 //! allocation after construction.
 
-use super::jacobian::{BodyArmJacobian, BodyJacobian, Jacobian, NEXT, PREV, SELF};
-use super::params::MAX_PULLEYS;
-use super::simd::{self, Isa};
-use super::system::{BeltSystem, BODY_DOF};
+use crate::model::params::MAX_PULLEYS;
+use crate::model::simd::{self, Isa};
+use crate::model::system::{BeltSystem, BODY_DOF};
+use crate::solver::jacobian::{BodyArmJacobian, BodyJacobian, Jacobian, NEXT, PREV, SELF};
 use nalgebra::{Matrix2, Matrix3, RowVector3, SMatrix, SVector, Vector2, Vector3};
 
 /// The factors for a border of `NB` unknowns: body n-1 (3), the free
@@ -779,8 +779,8 @@ impl<'a> View<'a> {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
-    use crate::belt::drive::Drive;
-    use crate::belt::params::{DriveParams, PulleyParams};
+    use crate::drive::Drive;
+    use crate::model::params::{DriveParams, PulleyParams};
 
     /// Gaussian elimination with partial pivoting (row-major `a`), the
     /// reference for the structured solves.

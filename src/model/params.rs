@@ -6,8 +6,8 @@
 //! discrete spring-damper elements (SDEs) with the body length l, so a finer
 //! mesh models the same belt. See `docs/model.md`, "Parameters".
 
-use super::elements::groove::MIN_GROOVE_ANGLE;
-use super::param_id::{msg, Message, Param, Part, Plain, Spelling};
+use crate::model::elements::groove::MIN_GROOVE_ANGLE;
+use crate::model::param_id::{msg, Message, Param, Part, Plain, Spelling};
 
 /// Number of pulley slots: the largest pulley count the model description
 /// declares.
@@ -269,7 +269,7 @@ pub struct SolverParams {
     pub initial_step: f64,
     /// Step-count guard: accepted steps per millisecond of an `advance`
     /// call's interval (at least this many per call;
-    /// [`crate::belt::stepping::step_budget`]).
+    /// [`crate::solver::step_control::step_budget`]).
     pub max_steps: u64,
 }
 
@@ -638,7 +638,7 @@ impl DriveParams {
     /// Checks every parameter: its declared range ([`Param::declared`],
     /// from the model description) and the rules that involve several
     /// parameters. Geometric checks (overlap, wrap, arc resolution) are made
-    /// by [`crate::belt::layout::Layout::new`].
+    /// by [`crate::model::layout::Layout::new`].
     pub fn validate(&self) -> Result<(), ParamError> {
         declared_count(Param::PulleyCount, self.pulleys.len())?;
         let b = &self.belt;

@@ -1,20 +1,20 @@
 //! A simulated belt drive: parameters, mounted layout, state, integrator.
 //! This is the whole interface the FMI adapter uses.
 
-use super::elements::contact::{smoothstep, AUTO_P_MAX_PER_PENETRATION};
-use super::elements::friction::Law;
-use super::iteration_matrix::IterationMatrix;
-use super::jacobian::Jacobian;
-use super::layout::Layout;
-use super::param_id::{msg, Message, Param, Part};
-use super::params::{DriveParams, Method, ParamError, MAX_PULLEYS, PROBE_AUTO};
-use super::rkf45::Rkf45;
-use super::rosenbrock::{EnergyBalance, Rosenbrock, StiffSystem};
-use super::solver_params::TUNING;
-use super::stepping::{OdeSystem, Stats, StepControl, StepFailure};
-use super::system::{
+use crate::model::elements::contact::{smoothstep, AUTO_P_MAX_PER_PENETRATION};
+use crate::model::elements::friction::Law;
+use crate::model::layout::Layout;
+use crate::model::param_id::{msg, Message, Param, Part};
+use crate::model::params::{DriveParams, Method, ParamError, MAX_PULLEYS, PROBE_AUTO};
+use crate::model::system::{
     BeltSystem, Inputs, NoRecord, Recorder, Relaxation, Workspace, BODY_DOF, IMPULSES,
 };
+use crate::solver::iteration_matrix::IterationMatrix;
+use crate::solver::jacobian::Jacobian;
+use crate::solver::knobs::TUNING;
+use crate::solver::rkf45::Rkf45;
+use crate::solver::rosenbrock::{EnergyBalance, Rosenbrock, StiffSystem};
+use crate::solver::step_control::{OdeSystem, Stats, StepControl, StepFailure};
 
 impl OdeSystem for BeltSystem {
     type Workspace = Workspace;
@@ -105,7 +105,7 @@ impl StiffSystem for BeltSystem {
     }
 }
 
-/// The integrator of a drive, chosen by [`SolverParams::method`](super::params::SolverParams::method).
+/// The integrator of a drive, chosen by [`SolverParams::method`](crate::model::params::SolverParams::method).
 #[derive(Clone, Debug, PartialEq)]
 #[allow(clippy::large_enum_variant)] // one per drive: its size does not matter
 pub enum Integrator {
@@ -522,7 +522,7 @@ fn auto_probe(layout: &Layout) -> usize {
         return 0;
     };
     let m = span.midpoint();
-    let d = |b: &super::layout::BodyPose| (b.x - m[0]).hypot(b.y - m[1]);
+    let d = |b: &crate::model::layout::BodyPose| (b.x - m[0]).hypot(b.y - m[1]);
     (0..layout.bodies.len())
         .min_by(|&a, &b| d(&layout.bodies[a]).total_cmp(&d(&layout.bodies[b])))
         .unwrap_or(0)

@@ -15,19 +15,19 @@
 //!   (quadrature states: they feed nothing back and are left out of the
 //!   error control; their means over the step are outputs, see `drive.rs`).
 
-use super::elements::contact::{self, ContactLaw};
-use super::elements::decoupler::Decoupler;
-use super::elements::friction::{with_law, Friction, Law};
-use super::elements::groove::friction_factor;
-pub use super::elements::pulley::PulleyConst;
-use super::elements::sde::{self, AxialSde, BodyEnd, TorsionalSde};
-use super::elements::tensioner::Arm;
-use super::layout::Layout;
-use super::params::{DriveParams, MAX_PULLEYS};
-use super::rosenbrock::EnergyBalance;
-use super::simd::{self, Isa};
-use super::solver_params::TUNING;
-use super::trig;
+use crate::model::elements::contact::{self, ContactLaw};
+use crate::model::elements::decoupler::Decoupler;
+use crate::model::elements::friction::{with_law, Friction, Law};
+use crate::model::elements::groove::friction_factor;
+pub use crate::model::elements::pulley::PulleyConst;
+use crate::model::elements::sde::{self, AxialSde, BodyEnd, TorsionalSde};
+use crate::model::elements::tensioner::Arm;
+use crate::model::layout::Layout;
+use crate::model::params::{DriveParams, MAX_PULLEYS};
+use crate::model::simd::{self, Isa};
+use crate::model::trig;
+use crate::solver::knobs::TUNING;
+use crate::solver::rosenbrock::EnergyBalance;
 
 /// Values per body in the state vector.
 pub const BODY_DOF: usize = 7;
@@ -118,41 +118,41 @@ impl Relaxation {
 #[derive(Clone, Debug, PartialEq)]
 pub struct BeltSystem {
     /// Belt bodies n.
-    pub(super) n: usize,
+    pub(crate) n: usize,
     /// Pulleys.
-    pub(super) np: usize,
+    pub(crate) np: usize,
     /// Pulleys with a decoupler (2 states each, after the energies).
-    pub(super) n_decouplers: usize,
+    pub(crate) n_decouplers: usize,
     /// Pulleys on a tensioner arm (2 states each, after the decouplers').
-    pub(super) n_arms: usize,
-    pub(super) pulleys: [PulleyConst; MAX_PULLEYS],
+    pub(crate) n_arms: usize,
+    pub(crate) pulleys: [PulleyConst; MAX_PULLEYS],
     /// Half the body length l/2 [m].
-    pub(super) half_length: f64,
+    pub(crate) half_length: f64,
     /// Body mass m and moment of inertia I (eq. 2), with their inverses.
-    pub(super) mass: f64,
-    pub(super) inv_mass: f64,
-    pub(super) inertia: f64,
-    pub(super) inv_inertia: f64,
+    pub(crate) mass: f64,
+    pub(crate) inv_mass: f64,
+    pub(crate) inertia: f64,
+    pub(crate) inv_inertia: f64,
     /// Translational SDE between neighbouring bodies (EA/l, B/l).
-    pub(super) axial: AxialSde,
+    pub(crate) axial: AxialSde,
     /// Torsional SDE between neighbouring bodies (EI/l, damping).
-    pub(super) bend: TorsionalSde,
+    pub(crate) bend: TorsionalSde,
     /// Gravitational acceleration [m/s^2] (acts in -y).
-    pub(super) gravity: f64,
-    pub(super) contact: ContactLaw,
-    pub(super) friction: Friction,
+    pub(crate) gravity: f64,
+    pub(crate) contact: ContactLaw,
+    pub(crate) friction: Friction,
     /// Friction factor of every body (1 outside the modified zone).
-    pub(super) zone_factor: Vec<f64>,
+    pub(crate) zone_factor: Vec<f64>,
     /// The equilibrium relaxation's settings ([`Relaxation::NONE`] when
     /// running).
-    pub(super) relaxation: Relaxation,
-    pub(super) inputs: Inputs,
+    pub(crate) relaxation: Relaxation,
+    pub(crate) inputs: Inputs,
     /// Contact points along each body (`contact.points`,
     /// [`contact::quadrature`]; 1 = the body centre, the paper's contact).
-    pub(super) points: usize,
+    pub(crate) points: usize,
 }
 
-pub(crate) use super::trig::wrap_angle;
+pub(crate) use crate::model::trig::wrap_angle;
 
 /// What the body blocks of the right-hand side read and accumulate per
 /// pulley: speeds and centres (x, y, vx, vy) in, belt torque and the belt's
@@ -877,7 +877,7 @@ impl BeltSystem {
     /// Pulley j as the equations see it: during the relaxation without
     /// friction and held at rest (speed-driven) as its settings say.
     #[inline(always)]
-    pub(super) fn pulley_in_effect(&self, j: usize) -> PulleyConst {
+    pub(crate) fn pulley_in_effect(&self, j: usize) -> PulleyConst {
         let mut pc = self.pulleys[j];
         let r = &self.relaxation;
         if r.frictionless {
@@ -895,7 +895,7 @@ impl BeltSystem {
     /// filling it on every call cost the right-hand side 1.7 % of its
     /// instructions).
     #[inline(always)]
-    pub(super) fn pulleys_in_effect<'a>(
+    pub(crate) fn pulleys_in_effect<'a>(
         &'a self,
         buf: &'a mut Option<[PulleyConst; MAX_PULLEYS]>,
     ) -> &'a [PulleyConst; MAX_PULLEYS] {
@@ -1644,7 +1644,7 @@ impl BeltSystem {
     /// the bodies, each body's sin/cos taken once and carried to its SDE
     /// with the next, the contact and creep-spring energies only for the
     /// bodies within a pulley's reach (cheap enough for the stiff method to
-    /// take once per trial step, [`super::rosenbrock`]).
+    /// take once per trial step, [`crate::solver::rosenbrock`]).
     pub fn stored_energy(&self, y: &[f64]) -> StoredEnergy {
         let n = self.n;
         let hl = self.half_length;

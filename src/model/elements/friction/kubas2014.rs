@@ -6,7 +6,7 @@
 //! viscous slope mu_s / dv sets the stable step of an explicit method.
 
 use super::{s_curve, s_curve_slope, Law};
-use crate::belt::elements::contact::{smoothstep, smoothstep_slope};
+use crate::model::elements::contact::{smoothstep, smoothstep_slope};
 
 /// The kubas2014 law with its constants.
 #[derive(Clone, Copy, Debug, PartialEq)]

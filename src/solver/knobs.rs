@@ -1,7 +1,7 @@
 //! Every internal knob of the solvers in one place, with its value and why.
 //!
 //! The user-facing choices (method, tolerances, first step, step guard) are
-//! [`SolverParams`](super::params::SolverParams), set through the FMU's
+//! [`SolverParams`](crate::model::params::SolverParams), set through the FMU's
 //! `solver.*` variables. The values here are fixed: they were chosen on the
 //! paper's drives and are documented in docs/model.md ("Integrators"). A
 //! change to any of them changes results; rerun the accuracy benchmarks

@@ -25,7 +25,7 @@ pub mod kubas2014;
 pub use creep::Creep;
 pub use kubas2014::Kubas2014;
 
-use crate::belt::params::FrictionLaw;
+use crate::model::params::FrictionLaw;
 
 /// Odd S-curve: the upper half of eq. 10's course stretched over [-1, 1].
 #[inline(always)]
@@ -209,13 +209,13 @@ impl Friction {
 /// around a loop, not inside one. The only `match` on the friction law.
 macro_rules! with_law {
     ($friction:expr, $law:ident => $body:expr) => {{
-        let friction: $crate::belt::elements::friction::Friction = $friction;
+        let friction: $crate::model::elements::friction::Friction = $friction;
         match friction.law {
-            $crate::belt::params::FrictionLaw::Creep => {
+            $crate::model::params::FrictionLaw::Creep => {
                 let $law = friction.creep();
                 $body
             }
-            $crate::belt::params::FrictionLaw::Kubas2014 => {
+            $crate::model::params::FrictionLaw::Kubas2014 => {
                 let $law = friction.kubas2014();
                 $body
             }

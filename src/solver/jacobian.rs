@@ -27,13 +27,13 @@
 //! the applied torques times the state speeds) is there for the same
 //! reason: it books the work the drives do with that linearisation too.
 
-use super::elements::contact;
-use super::elements::friction::{with_law, Law};
-use super::elements::sde::{self, BodyEnd};
-use super::params::MAX_PULLEYS;
-use super::simd::{self, Isa};
-use super::system::{BeltSystem, BODY_DOF};
-use super::trig;
+use crate::model::elements::contact;
+use crate::model::elements::friction::{with_law, Law};
+use crate::model::elements::sde::{self, BodyEnd};
+use crate::model::params::MAX_PULLEYS;
+use crate::model::simd::{self, Isa};
+use crate::model::system::{BeltSystem, BODY_DOF};
+use crate::model::trig;
 use nalgebra::{Matrix2, Matrix2x3, Matrix3, RowVector3, SMatrix, Vector2, Vector3};
 
 /// Derivatives of one body's rows: accelerations (vx', vy', omega') and creep rate z'.
@@ -897,7 +897,7 @@ type Along<'a, L> = (
     &'a L,
     &'a [f64],
     &'a [f64; MAX_PULLEYS],
-    &'a [super::system::PulleyConst; MAX_PULLEYS],
+    &'a [crate::model::system::PulleyConst; MAX_PULLEYS],
     &'a [[f64; 4]; MAX_PULLEYS],
 );
 
@@ -940,7 +940,7 @@ impl BeltSystem {
         i: usize,
         y: &[f64],
         omega_p: &[f64; MAX_PULLEYS],
-        pulleys: &[super::system::PulleyConst; MAX_PULLEYS],
+        pulleys: &[crate::model::system::PulleyConst; MAX_PULLEYS],
         centre: &[[f64; 4]; MAX_PULLEYS],
         hub_force: &mut [[f64; 2]; MAX_PULLEYS],
         jac: &mut Jacobian,
@@ -1071,9 +1071,9 @@ fn hub_row(partials: &Matrix2<f64>) -> Matrix2x3<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::belt::drive::Drive;
-    use crate::belt::params::{DriveParams, FrictionLaw, PulleyParams};
-    use crate::belt::system::{NoRecord, Workspace};
+    use crate::drive::Drive;
+    use crate::model::params::{DriveParams, FrictionLaw, PulleyParams};
+    use crate::model::system::{NoRecord, Workspace};
 
     /// A small two-pulley drive (r = 50 and 45 mm) with 36 bodies at 120 N
     /// and the automatic contact damping ramp, which differs between the

@@ -8,8 +8,8 @@
 //! Delta_max..1.5 Delta_max as the paper's law does over dv..1.5 dv (Fig. 6c).
 
 use super::{s_curve, s_curve_slope, Law};
-use crate::belt::elements::contact::{smoothstep, smoothstep_slope};
-use crate::belt::solver_params::TUNING;
+use crate::model::elements::contact::{smoothstep, smoothstep_slope};
+use crate::solver::knobs::TUNING;
 
 /// Creep displacement at which the creep law slides at mu_k (1.5 Delta_max:
 /// the static-to-kinetic transition spans Delta_max..1.5 Delta_max, as the

@@ -11,10 +11,10 @@
 //! clockwise (s = -1). A belt point on pulley j with travel direction t is
 //! `c_j - s_j r_j n(t)`, n(t) the left normal of t.
 
-use super::elements::contact::{resting_force, ContactLaw};
-use super::param_id::{msg, Param, Part};
-use super::params::{param_error, DriveParams, ParamError, MAX_BODIES};
-use super::system::wrap_angle;
+use crate::model::elements::contact::{resting_force, ContactLaw};
+use crate::model::param_id::{msg, Param, Part};
+use crate::model::params::{param_error, DriveParams, ParamError, MAX_BODIES};
+use crate::model::system::wrap_angle;
 use std::f64::consts::TAU;
 
 /// A free span: the common tangent from one pulley to the next.

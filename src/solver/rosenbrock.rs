@@ -1,13 +1,13 @@
 //! Linearly implicit Rosenbrock-W integrator ROS34PW2 (Rang & Angermann,
 //! BIT 45, 2005): 4 stages, order 3 with an embedded order-2 solution,
-//! L-stable and stiffly accurate. The stiff alternative to [`super::rkf45`].
+//! L-stable and stiffly accurate. The stiff alternative to [`crate::solver::rkf45`].
 //!
 //! Why a W-method: its order conditions hold for *any* matrix in place of the
 //! exact Jacobian, so the Jacobian can be kept over several steps, the
 //! dissipated-energy accumulator can be left out of it, and the explicit time
 //! dependence of the inputs needs no df/dt term, all without losing order.
 //! Each stage solves (I - h gamma J) x = b with the system's own structured
-//! solver (for the belt: O(n), see [`super::iteration_matrix`]).
+//! solver (for the belt: O(n), see [`crate::solver::iteration_matrix`]).
 //!
 //! Stages are written in the transformed variables of Hairer & Wanner
 //! (Solving ODEs II, IV.7): with Gamma = (gamma_ij),
@@ -16,9 +16,9 @@
 //! m = b Gamma^-1; the coefficients are transformed once, at compile time of
 //! the tableau below.
 
-use super::simd::{self, Isa};
-use super::solver_params::TUNING;
-use super::stepping::{EmbeddedMethod, OdeSystem, StepControl, StepFailure, Trial};
+use crate::model::simd::{self, Isa};
+use crate::solver::knobs::TUNING;
+use crate::solver::step_control::{EmbeddedMethod, OdeSystem, StepControl, StepFailure, Trial};
 
 /// An ODE whose Jacobian (or an approximation of it) can be formed and whose
 /// iteration matrix `I - c J` can be factored and solved.
@@ -83,7 +83,7 @@ pub struct EnergyBalance {
     pub balance: f64,
     /// The energy the residual is measured against [J]: a step's residual
     /// is at tolerance when it is relTol times this (for the belt: the
-    /// belt's own stored energy, [`super::system::StoredEnergy::belt`]).
+    /// belt's own stored energy, [`crate::model::system::StoredEnergy::belt`]).
     pub scale: f64,
     /// The size of the terms the balance sums [J], for its round-off.
     pub magnitude: f64,
@@ -599,7 +599,7 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
     }
 
     /// [`Self::advance`] with `observe` told of every trial step
-    /// ([`super::stepping::advance_observed`]; diagnostics).
+    /// ([`crate::solver::step_control::advance_observed`]; diagnostics).
     pub fn advance_observed(
         &mut self,
         sys: &Sys,
@@ -613,7 +613,7 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
         // balance kept from its end are used if the time is still theirs
         // (a caller that changed the state calls `state_changed`)
         self.no_grow = false;
-        super::stepping::advance_observed(self, sys, ws, t, y, t_end, observe)
+        crate::solver::step_control::advance_observed(self, sys, ws, t, y, t_end, observe)
     }
 
     /// Diagnostics of the last trial step from `y` (an observer's
@@ -841,7 +841,7 @@ mod tests {
             true
         }
         fn solve(&self, _jac: &Vec<f64>, m: &mut Vec<f64>, b: &mut [f64]) {
-            let x = crate::belt::iteration_matrix::tests::dense_solve(m.clone(), b.to_vec());
+            let x = crate::solver::iteration_matrix::tests::dense_solve(m.clone(), b.to_vec());
             b.copy_from_slice(&x);
         }
     }

@@ -787,8 +787,8 @@ pub fn segment_of<const K: usize>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::belt::elements::friction::{Friction, Law};
-    use crate::belt::params::FrictionLaw;
+    use crate::model::elements::friction::{Friction, Law};
+    use crate::model::params::FrictionLaw;
 
     /// 1 / p_max of the tests: a 0.1 mm ramp, so that the test points lie
     /// on it and beyond it.

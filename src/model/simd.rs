@@ -137,7 +137,7 @@ const DOF: usize = 7;
 /// bodies at a time by AVX transposes, then two at a time by SSE2 shuffles
 /// on x86-64, element by element elsewhere.
 #[inline(always)]
-pub(super) fn gather<const WIDE: bool, const N: usize>(
+pub(crate) fn gather<const WIDE: bool, const N: usize>(
     cols: [&mut [f64; N]; DOF],
     d: usize,
     src: &[f64],
@@ -212,7 +212,7 @@ pub(super) fn gather<const WIDE: bool, const N: usize>(
 /// into `dst` as bodies of seven values each, the inverse of [`gather`]:
 /// with `WIDE` four bodies at a time, then two, then one.
 #[inline(always)]
-pub(super) fn scatter<const WIDE: bool>(cols: [&[f64]; DOF], dst: &mut [f64]) {
+pub(crate) fn scatter<const WIDE: bool>(cols: [&[f64]; DOF], dst: &mut [f64]) {
     let count = dst.len() / DOF;
     assert!(dst.len() == count * DOF && cols.iter().all(|c| c.len() >= count));
     let mut k = 0;
