@@ -11,7 +11,6 @@
 //! match.
 //!
 //! `cargo run --profile ci --example state_hash -- [H [DRIVE]]`
-//! (a reference run of this tool is kept in docs/architecture.md).
 
 use belt_drive::fmi::FmuModel;
 use belt_drive::fmu::variables::{by_name, VarType};
