@@ -250,7 +250,8 @@ impl Profile {
 /// Options `key=value` after the runs: `pMax=<m>` (contact.pMax),
 /// `energyCheck=0` (the stiff method's energy check off), `points=<n>`
 /// (contact.points), `relTol=<x>`, `bodies=<n>` (belt.nBodies), `load=<x>`
-/// (the load dampings times x).
+/// (the load dampings times x), `jacobianAge=<n>` (the stiff method's
+/// Jacobian kept for n accepted steps in the observed run; 2 by default).
 #[derive(Clone, Copy, Default)]
 struct Options {
     p_max: Option<f64>,
@@ -259,6 +260,7 @@ struct Options {
     rel_tol: Option<f64>,
     bodies: Option<usize>,
     load: Option<f64>,
+    jacobian_age: Option<u32>,
 }
 
 /// Trials whose energy terms are compared with a tight reference step.
@@ -369,6 +371,9 @@ fn run(name: &str, rpm: f64, method: Method, o: Options) {
     let mut tc = t;
     let (jac, fac) = match d.integrator().clone() {
         Integrator::Rosenbrock(mut ros) => {
+            if let Some(n) = o.jacobian_age {
+                ros.jacobian_max_age = n;
+            }
             let (j0, f0) = (ros.jacobians, ros.factorizations);
             for k in 1..=(WINDOW / COMM).round() as usize {
                 ros.advance_observed(
@@ -503,6 +508,7 @@ fn main() {
             "relTol" => o.rel_tol = Some(v.parse().expect("relTol")),
             "bodies" => o.bodies = Some(v.parse().expect("bodies")),
             "load" => o.load = Some(v.parse().expect("load")),
+            "jacobianAge" => o.jacobian_age = Some(v.parse().expect("jacobianAge")),
             _ => panic!("option {k}"),
         }
     }

@@ -111,7 +111,14 @@ pub struct SolverTuning {
     /// (a belt at rest with no stored energy).
     pub energy_roundoff_ulps: f64,
     /// Accepted steps a Jacobian is kept for (it is also re-evaluated after a
-    /// rejected step and after a restore).
+    /// rejected step and after a restore): 1, a fresh Jacobian every step.
+    /// Kept for 2 steps, the second step's energy error is about five times
+    /// the first's at the same step size (docs/benchmarks.md), and on the
+    /// accessory drives the energy check rejected 35-45 % of the trials
+    /// (`cargo run --profile ci --example step_profile`); with a fresh one,
+    /// 0.4-1.7 % (18 % on the tensioner set, whose arm then sets the step),
+    /// and 1.7-2.1 times fewer trials for about as many Jacobians and fewer
+    /// factorizations.
     pub jacobian_max_age: u32,
     /// Regularisation length of the SDE direction at a zero gap, relative to
     /// the body length (squared, it is the `eps2` of the stretch rate): far
@@ -165,7 +172,7 @@ pub const TUNING: SolverTuning = SolverTuning {
     energy_tolerance: 1.0,
     energy_error_order: 4.0,
     energy_roundoff_ulps: 1e3,
-    jacobian_max_age: 2,
+    jacobian_max_age: 1,
     sde_regularisation: 1e-6,
     relax_rel_tol: 1e-5,
     relax_abs_tol: 1e-9,
