@@ -282,8 +282,8 @@ fn sweep(args: &[String]) -> Result<()> {
 /// leaves the browser tests and chromium out, and pytest lists them as
 /// skipped with the reason). The Rust tests build with the `ci` profile
 /// (release optimisation without fat LTO, see Cargo.toml); the FMU the
-/// Python tests load is the packaged release build. pytest runs on two
-/// worker processes (pytest-xdist) and prints every skip with its reason.
+/// Python tests load is the packaged release build. pytest prints every
+/// skip with its reason.
 /// rust-fmi's fmi-sim builds from source (about 5 min of CPU time), so it
 /// runs only with `--fmi-sim` or when `.tools/` already holds it.
 fn test(args: &[String]) -> Result<()> {
@@ -372,9 +372,9 @@ fn test(args: &[String]) -> Result<()> {
     } else {
         pytest.env("BELTDRIVE_NO_BROWSER", "1");
     }
-    // -rs: every skipped test with its reason in the summary; -n 2
-    // --dist loadfile: two worker processes, each test file on one (its
-    // module fixtures run once)
+    // -rs: every skipped test with its reason in the summary. One process:
+    // the whole Python suite takes about 2.5 min, and under pytest-xdist a
+    // worker died (SIGILL inside fmi2DoStep) and the run hung.
     pytest.args([
         "-m",
         "pytest",
@@ -382,10 +382,6 @@ fn test(args: &[String]) -> Result<()> {
         "-rs",
         "-p",
         "no:cacheprovider",
-        "-n",
-        "2",
-        "--dist",
-        "loadfile",
         "tests/python",
     ]);
     let fmi_sim = if with_fmi_sim {
