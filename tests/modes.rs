@@ -89,6 +89,61 @@ fn span_transverse_modes_are_the_strings() {
     }
 }
 
+/// Two identical spans (equal pulleys): their transverse modes come in
+/// degenerate pairs, which the analysis splits into span-localised modes
+/// before labelling, so each pair is labelled span 1 and span 2 (not the same
+/// span twice), each within 2 % of the string f_n = n / (2 L) sqrt(T / rho')
+/// (tolerance as in `span_transverse_modes_are_the_strings`) and each
+/// carrying most of its energy in its own span.
+#[test]
+fn degenerate_pair_on_identical_spans_is_labelled_span_1_and_span_2() {
+    let mut p = two_pulley(120);
+    p.pulleys[1].radius = p.pulleys[0].radius;
+    p.pulleys[1].inertia = p.pulleys[0].inertia;
+    let (lin, m) = modes_at_rest(&p);
+    let (l1, l2) = (span_length(&lin, 0, 1), span_length(&lin, 1, 0));
+    assert!((l1 - l2).abs() < 1e-9, "identical spans: {l1} {l2}");
+    let rho = p.belt.mass_per_length / (1.0 + p.belt.preload / p.belt.ea);
+    let c = (p.belt.preload / rho).sqrt();
+    // The solver's pairs were degenerate (else this test checks nothing).
+    assert!(m.split_pairs >= 2, "split pairs: {}", m.split_pairs);
+    for n in 1..=3 {
+        let f = n as f64 * c / (2.0 * l1);
+        let near: Vec<&Mode> = m
+            .modes
+            .iter()
+            .filter(|x| (x.frequency_hz / f - 1.0).abs() < 0.02)
+            .filter(|x| matches!(x.part, Part::SpanTransverse(_)))
+            .collect();
+        for x in &near {
+            eprintln!(
+                "harmonic {n}: {:.3} Hz (string {f:.3} Hz), {} ({:.0} %)",
+                x.frequency_hz,
+                x.describe(),
+                100.0 * x.share
+            );
+        }
+        let labels: Vec<Part> = near.iter().map(|x| x.part).collect();
+        assert_eq!(
+            labels.len(),
+            2,
+            "harmonic {n}: one mode per span expected: {labels:?}"
+        );
+        assert!(
+            labels.contains(&Part::SpanTransverse(1)) && labels.contains(&Part::SpanTransverse(2)),
+            "harmonic {n}: {labels:?}"
+        );
+        for x in near {
+            assert!(
+                x.share > 0.8,
+                "harmonic {n}: {} share {}",
+                x.describe(),
+                x.share
+            );
+        }
+    }
+}
+
 /// The rotational mode: two pulley inertias coupled through both spans, each
 /// a spring EA / L_span in the belt's displacement u_j = r_j theta_j. The
 /// belt's mass enters as a consistent bar mass of each span (m/3, m/6) and the

@@ -50,6 +50,7 @@
 //!    within one substep otherwise).
 
 use super::adapter::{self, Linearisation, BODY_STATES};
+use super::degenerate::{localise, Candidate};
 use super::{classify, regions, Mode, Modes, Options};
 use crate::drive::Window;
 use crate::model::params::MAX_PULLEYS;
@@ -685,6 +686,7 @@ fn floquet_modes(
     let regions = regions(lin0);
     let (s, u) = (evd.S(), evd.U());
     let mut vec = vec![c64::new(0.0, 0.0); dim];
+    let mut cands = Vec::new();
     for k in 0..dim {
         let mu = s[k];
         let (r, arg) = (mu.re.hypot(mu.im), mu.im.atan2(mu.re));
@@ -764,16 +766,26 @@ fn floquet_modes(
         for i in 0..n {
             vec[lin0.body(i, 5)] = c64::new(0.0, 0.0);
         }
-        let (part, share) = classify(lin0, &regions, &vec, false);
-        let shares = super::shares(lin0, &regions, &vec, false);
+        cands.push(Candidate {
+            lambda,
+            vec: vec.clone(),
+            shape,
+        });
+    }
+    cands.sort_by(|a, b| a.lambda.norm().total_cmp(&b.lambda.norm()));
+    out.split_pairs = localise(lin0, &regions, &mut cands, false);
+    for c in cands {
+        let mag = c.lambda.norm();
+        let (part, share) = classify(lin0, &regions, &c.vec, false);
+        let shares = super::shares(lin0, &regions, &c.vec, false);
         out.modes.push(Mode {
             frequency_hz: mag / TAU,
-            damping_ratio: -lambda.re / mag,
-            damped_hz: lambda.im.abs() / TAU,
+            damping_ratio: -c.lambda.re / mag,
+            damped_hz: c.lambda.im.abs() / TAU,
             part,
             share,
             shares,
-            shape,
+            shape: c.shape,
         });
     }
     out.modes

@@ -23,6 +23,7 @@
 //! Everything the analysis needs from the core goes through [`adapter`].
 
 pub mod adapter;
+pub mod degenerate;
 pub mod floquet;
 pub mod params;
 
@@ -218,6 +219,8 @@ pub struct Modes {
     pub body_rate: f64,
     /// The periodic running state of a Floquet analysis ([`floquet`]).
     pub orbit: Option<Orbit>,
+    /// Degenerate pairs split into span-localised modes ([`degenerate`]).
+    pub split_pairs: usize,
 }
 
 /// Where a body is: on pulley j's wrap or on span k (0-based).
@@ -441,7 +444,7 @@ pub fn analyse(lin: &Linearisation, opts: &Options) -> Result<Modes, String> {
     let regions = regions(lin);
     let s = evd.S();
     let u = evd.U();
-    let mut vec = vec![faer::c64::new(0.0, 0.0); dim];
+    let mut cands = Vec::new();
     for k in 0..m {
         let lam = s[k];
         let mag = lam.re.hypot(lam.im);
@@ -456,23 +459,33 @@ pub fn analyse(lin: &Linearisation, opts: &Options) -> Result<Modes, String> {
         if lam.im < 0.0 {
             continue; // the conjugate of a pair already counted
         }
-        let f = mag / TAU;
-        if f > opts.max_frequency_hz {
+        if mag / TAU > opts.max_frequency_hz {
             out.above_limit += 1;
             continue;
         }
-        vec.iter_mut().for_each(|x| *x = faer::c64::new(0.0, 0.0));
+        let mut vec = vec![faer::c64::new(0.0, 0.0); dim];
         for (r, &idx) in keep.iter().enumerate() {
             vec[idx] = u[(r, k)] * scale[r];
         }
-        let (part, share) = classify(lin, &regions, &vec, opts.transport);
+        cands.push(degenerate::Candidate {
+            lambda: lam,
+            vec,
+            shape: Vec::new(),
+        });
+    }
+    cands.sort_by(|a, b| a.lambda.norm().total_cmp(&b.lambda.norm()));
+    out.split_pairs = degenerate::localise(lin, &regions, &mut cands, opts.transport);
+    for c in &cands {
+        let (lam, vec) = (c.lambda, &c.vec);
+        let mag = lam.norm();
+        let (part, share) = classify(lin, &regions, vec, opts.transport);
         out.modes.push(Mode {
-            frequency_hz: f,
+            frequency_hz: mag / TAU,
             damping_ratio: -lam.re / mag,
             damped_hz: lam.im / TAU,
             part,
             share,
-            shares: shares(lin, &regions, &vec, opts.transport),
+            shares: shares(lin, &regions, vec, opts.transport),
             shape: Vec::new(),
         });
     }

@@ -27,7 +27,7 @@
 //!   `docs/benchmarks.md` (see `bench.rs`).
 //! * `model-description` - writes `modelDescription/modelDescription.xml`
 //!   from the registry (`modelDescription/src/registry/table.rs`).
-//! * `modes -- [--ssv FILE] [--set NAME=VALUE ...] [--speeds FROM:TO:N] [--at TIME]`:
+//! * `modes -- [--ssv FILE] [--set NAME=VALUE ...] [--speeds FROM:TO:N] [--at TIME] [--range LO:HI]`:
 //!   the modal analysis (`examples/modes.rs`), `dist/modes.csv` and, with
 //!   `--speeds`, the Campbell diagram `dist/campbell.png` (docs/modes.md).
 //! * `layout -- [--ssv FILE] [--set NAME=VALUE ...] [--names A,B,...] [--out FILE.svg]`:
@@ -405,12 +405,29 @@ fn test(args: &[String]) -> Result<()> {
 }
 
 /// `cargo xtask modes -- [--ssv FILE] [--set NAME=VALUE ...] [--speeds FROM:TO:N]
-/// [--at TIME] [--fmax HZ] [--out FILE] [--frozen]`: the modal analysis
+/// [--at TIME] [--fmax HZ] [--out FILE] [--frozen] [--range LO:HI]`: the modal analysis
 /// (`examples/modes.rs`) writes the CSV (default `dist/modes.csv`); with
 /// `--speeds` the Campbell diagram is drawn beside it (`campbell.png`, by
 /// `examples/campbell.py` with matplotlib from `.venv`).
 fn modes(args: &[String]) -> Result<()> {
     let args = args.strip_prefix(&["--".to_string()]).unwrap_or(args);
+    // `--range LO:HI` is the Campbell diagram's frequency axis, not the
+    // analysis': it goes to examples/campbell.py.
+    let mut analysis = Vec::new();
+    let mut range = None;
+    let mut it = args.iter();
+    while let Some(a) = it.next() {
+        if a == "--range" {
+            range = Some(
+                it.next()
+                    .ok_or("--range needs LO:HI (the Campbell diagram's frequency axis, Hz)")?
+                    .clone(),
+            );
+        } else {
+            analysis.push(a.clone());
+        }
+    }
+    let args = &analysis[..];
     run(
         cargo()
             .args([
@@ -440,13 +457,12 @@ fn modes(args: &[String]) -> Result<()> {
         csv.with_extension("png")
     };
     venv()?;
-    run(
-        Command::new(venv_python())
-            .arg("examples/campbell.py")
-            .arg(&csv)
-            .arg(&png),
-        "Campbell diagram",
-    )
+    let mut plot = Command::new(venv_python());
+    plot.arg("examples/campbell.py").arg(&csv).arg(&png);
+    if let Some(r) = range {
+        plot.args(["--range", &r]);
+    }
+    run(&mut plot, "Campbell diagram")
 }
 
 /// Whether `valgrind` can be started.
