@@ -3,6 +3,8 @@
 //! * `fmu`  - release build, then `dist/BeltDrive.fmu` (model description with
 //!   its GUID, the Linux binary, generated documentation, model icon).
 //! * `venv` - `.venv` with the Python test harness (FMPy, pytest, ...).
+//! * `setup [--no-browser]` - `venv` and the Debian packages the Python
+//!   tests need (`libtbb12`, `chromium`).
 //! * `run [-- --fast --stop-time T]` - the main job: build the FMU and
 //!   simulate its default drive through FMPy with RKF45 and the stiff method
 //!   side by side (`--fast`: the stiff method only); a report of both with
@@ -309,16 +311,29 @@ fn test(args: &[String]) -> Result<()> {
     eprintln!(
         "cargo xtask test: everything CI runs\n\
          \x20 1. cargo fmt --check and cargo clippy -D warnings\n\
-         \x20 2. the Rust tests (cargo test --workspace --profile ci --features modes)\n\
+         \x20 2. the Rust tests ({}, profile ci, features modes)\n\
          \x20 3. valgrind memcheck of the C API: {}\n\
          \x20 4. the packaged FMU (release build) and its cross-check files\n\
-         \x20 5. pytest on 2 processes: the FMU through FMPy, libcosim, Ecos, fmu-manipulation-toolbox, \
+         \x20 5. pytest: the FMU through FMPy, libcosim, Ecos, fmu-manipulation-toolbox, \
          the browser ({}) and fmi-sim ({})\n\
          System packages it needs (Debian):\n\
          \x20 libtbb12  the Ecos importer's library: {}\n\
          \x20 chromium  headless browser for the FMU manual and the animation page: {}",
-        if valgrind { "valgrind found" } else { "valgrind not installed: skipped" },
-        if browser { "on; --no-browser leaves it out" } else { "off: --no-browser" },
+        if nextest() {
+            "cargo nextest, every test in its own process on all cores"
+        } else {
+            "cargo test; cargo-nextest would run them on all cores"
+        },
+        if valgrind {
+            "valgrind found"
+        } else {
+            "valgrind not installed: skipped"
+        },
+        if browser {
+            "on; --no-browser leaves it out"
+        } else {
+            "off: --no-browser"
+        },
         match (&fmi_sim, with_fmi_sim) {
             (Some(_), _) => "installed in .tools/",
             (None, true) => "--fmi-sim: built now, about 5 min",
@@ -331,6 +346,10 @@ fn test(args: &[String]) -> Result<()> {
             "not needed (--no-browser)"
         },
     );
+    // The Python harness and the system packages download while cargo
+    // builds: a child `cargo xtask setup` writes to a log file, so its output
+    // does not interleave with the builds'.
+    let setup = Setup::start(browser)?;
     run(
         cargo().args(["fmt", "--all", "--", "--check"]),
         "cargo fmt --check",
@@ -348,28 +367,18 @@ fn test(args: &[String]) -> Result<()> {
         ]),
         "cargo clippy",
     )?;
-    run(
-        cargo().args([
-            "test",
-            "--workspace",
-            "--profile",
-            "ci",
-            "--features",
-            "belt_drive/modes",
-        ]),
-        "cargo test (profile ci)",
-    )?;
+    rust_tests()?;
     if valgrind {
-        valgrind_with("ci")?;
+        // The features of the test build: the library is not built again.
+        valgrind_with("ci", &["--features", "modes"])?;
     } else {
         eprintln!("xtask: valgrind not found: skipping the memory check (cargo xtask valgrind)");
     }
+    fmu()?;
+    setup.finish()?;
     crosscheck(&[])?;
-    tools::ensure_tbb()?;
     let mut pytest = Command::new(venv_python());
-    if browser {
-        tools::ensure_chromium()?;
-    } else {
+    if !browser {
         pytest.env("BELTDRIVE_NO_BROWSER", "1");
     }
     // -rs: every skipped test with its reason in the summary. One process:
@@ -402,6 +411,107 @@ fn test(args: &[String]) -> Result<()> {
         &mut pytest,
         "pytest (the packaged FMU through FMPy and the other importers)",
     )
+}
+
+/// Whether `cargo nextest` can be started.
+fn nextest() -> bool {
+    cargo()
+        .args(["nextest", "--version"])
+        .output()
+        .is_ok_and(|o| o.status.success())
+}
+
+/// The Rust tests of the workspace with the `ci` profile and the `modes`
+/// feature. With cargo-nextest (on the CI machines) every test runs in its
+/// own process and the two cores stay busy; `cargo test` runs one test
+/// binary after the other, so a binary's one long test leaves a core idle.
+/// nextest does not run doctests: `cargo test --doc` runs them.
+fn rust_tests() -> Result<()> {
+    let common = ["--workspace", "--features", "belt_drive/modes"];
+    if !nextest() {
+        return run(
+            cargo().args(["test", "--profile", "ci"]).args(common),
+            "cargo test (profile ci)",
+        );
+    }
+    run(
+        cargo()
+            .args(["nextest", "run", "--cargo-profile", "ci", "--no-fail-fast"])
+            .args(common),
+        "cargo nextest (profile ci)",
+    )?;
+    run(
+        cargo()
+            .args(["test", "--doc", "--profile", "ci"])
+            .args(common),
+        "doctests (profile ci)",
+    )
+}
+
+/// `cargo xtask setup [--no-browser]`: the Python harness in `.venv` and
+/// the Debian packages the Python tests need (`libtbb12`; `chromium` unless
+/// `--no-browser`).
+fn setup(args: &[String]) -> Result<()> {
+    venv()?;
+    tools::ensure_tbb()?;
+    if !args.iter().any(|a| a == "--no-browser") {
+        tools::ensure_chromium()?;
+    }
+    Ok(())
+}
+
+/// [`setup`] in a child process whose output goes to `target/setup.log`.
+struct Setup {
+    child: std::process::Child,
+    log: PathBuf,
+}
+
+impl Setup {
+    fn start(browser: bool) -> Result<Self> {
+        let target = std::env::var("CARGO_TARGET_DIR")
+            .map(PathBuf::from)
+            .unwrap_or_else(|_| root().join("target"));
+        fs::create_dir_all(&target).map_err(|e| format!("{}: {e}", target.display()))?;
+        let log = target.join("setup.log");
+        let file = fs::File::create(&log).map_err(|e| format!("{}: {e}", log.display()))?;
+        let err = file.try_clone().map_err(|e| e.to_string())?;
+        let exe = std::env::current_exe().map_err(|e| e.to_string())?;
+        let mut cmd = Command::new(exe);
+        cmd.arg("setup");
+        if !browser {
+            cmd.arg("--no-browser");
+        }
+        let child = cmd
+            .current_dir(root())
+            .stdout(file)
+            .stderr(err)
+            .spawn()
+            .map_err(|e| format!("cargo xtask setup: cannot start: {e}"))?;
+        eprintln!(
+            "xtask: installing the Python harness and the system packages in the background \
+             (log: {})",
+            log.display()
+        );
+        Ok(Self { child, log })
+    }
+
+    /// Waits for the setup; on failure prints its log.
+    fn finish(mut self) -> Result<()> {
+        let status = self.child.wait().map_err(|e| e.to_string())?;
+        let text = fs::read_to_string(&self.log).unwrap_or_default();
+        if status.success() {
+            eprintln!(
+                "xtask: setup done ({} lines in {})",
+                text.lines().count(),
+                self.log.display()
+            );
+            return Ok(());
+        }
+        eprintln!("{text}");
+        Err(format!(
+            "setup of the Python harness failed ({status}); log above"
+        ))
+    }
 }
 
 /// `cargo xtask modes -- [--ssv FILE] [--set NAME=VALUE ...] [--speeds FROM:TO:N]
@@ -479,22 +589,25 @@ fn have_valgrind() -> bool {
 /// ("possibly lost" and "still reachable" blocks of the Rust runtime and of
 /// dlopen are not errors).
 fn valgrind() -> Result<()> {
-    valgrind_with("release")
+    valgrind_with("release", &[])
 }
 
-/// [`valgrind`] on the build of the given cargo profile.
-fn valgrind_with(profile: &str) -> Result<()> {
+/// [`valgrind`] on the build of the given cargo profile, with extra cargo
+/// arguments (features).
+fn valgrind_with(profile: &str, extra: &[&str]) -> Result<()> {
     run(
-        cargo().args([
-            "build",
-            "--profile",
-            profile,
-            "--lib",
-            "--example",
-            "valgrind_driver",
-            "-p",
-            "belt_drive",
-        ]),
+        cargo()
+            .args([
+                "build",
+                "--profile",
+                profile,
+                "--lib",
+                "--example",
+                "valgrind_driver",
+                "-p",
+                "belt_drive",
+            ])
+            .args(extra),
         "build of the library and the valgrind driver",
     )?;
     let target = std::env::var("CARGO_TARGET_DIR")
@@ -529,6 +642,7 @@ fn main() {
     let result = match args.first().map(String::as_str) {
         Some("fmu") => fmu().map(|_| ()),
         Some("venv") => venv(),
+        Some("setup") => setup(&args[1..]),
         Some("run") => main_job(&args[1..]),
         Some("validate") => validate(&args[1..]),
         Some("crosscheck") => crosscheck(&args[1..]),
@@ -541,7 +655,7 @@ fn main() {
         Some("model-description") => model_description(),
         Some("layout") => drawing::layout(&args[1..]).map(|_| ()),
         _ => Err(
-            "usage: cargo xtask <fmu|venv|run|validate|crosscheck|fmi-sim|test|valgrind|bench|sweep|modes|model-description|layout>"
+            "usage: cargo xtask <fmu|venv|setup|run|validate|crosscheck|fmi-sim|test|valgrind|bench|sweep|modes|model-description|layout>"
                 .into(),
         ),
     };
