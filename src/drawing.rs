@@ -237,6 +237,9 @@ struct Sketch<'a> {
 /// [`DriveParams::validate`]); `names` overrides the pulleys' default names
 /// ([`role`]) where given and non-empty; `title` heads the drawing.
 pub fn draw(params: &DriveParams, names: &[String], title: &str) -> Result<Drawing, ParamError> {
+    // With `belt.naturalLength` the preload is the installation tension.
+    let installed = crate::model::layout::installed(params)?;
+    let params: &DriveParams = &installed;
     let layout = Layout::new(params)?;
     let mut k = Sketch::new(params, layout);
     k.header(title);

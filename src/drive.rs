@@ -636,6 +636,9 @@ impl Drive {
     /// restoring a saved state, which replaces the state anyway).
     pub fn mounted(params: &DriveParams, t0: f64) -> Result<Self, ParamError> {
         params.validate()?;
+        // With `belt.naturalLength` the preload is the installation tension.
+        let installed = crate::model::layout::installed(params)?;
+        let params: &DriveParams = &installed;
         let layout = Layout::new(params)?;
         let sys = BeltSystem::new(params, &layout);
         let dim = sys.dim();

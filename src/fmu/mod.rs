@@ -72,6 +72,7 @@ fn real_slot<'a>(p: &'a mut DriveParams, v: &VarInfo) -> Option<&'a mut f64> {
     let j = v.index;
     Some(match v.var {
         Var::BeltPreload => &mut p.belt.preload,
+        Var::BeltNaturalLength => &mut p.belt.natural_length,
         Var::BeltEA => &mut p.belt.ea,
         Var::BeltAxialDamping => &mut p.belt.axial_damping,
         Var::BeltShearDampingFactor => &mut p.belt.shear_damping_factor,
@@ -234,7 +235,13 @@ impl BeltDrive {
         let j = v.index;
         if matches!(v.var, Var::BeltLength) {
             let d = self.ensure_drive()?;
-            return Ok(d.layout().body_length * d.params().belt.n_bodies as f64);
+            // The continuum's natural length for the installation tension.
+            return crate::model::layout::natural_length(d.params())
+                .map_err(|e| names::render_error(&e));
+        }
+        if matches!(v.var, Var::BeltInstalledTension) {
+            // The drive's preload: with belt.naturalLength, the one solved for.
+            return Ok(self.ensure_drive()?.params().belt.preload);
         }
         if let Some(stats) = self.stats_output(v) {
             return Ok(stats);

@@ -301,6 +301,145 @@ fn millimetre_positions(params: &DriveParams, path_length: f64) -> Option<ParamE
     ))
 }
 
+/// The drive as installed: with `belt.natural_length` given (> 0), the
+/// parameters with the preload replaced by the installation tension of a
+/// belt of that natural length, and the length cleared; otherwise `params`
+/// unchanged. `params` must have passed [`DriveParams::validate`].
+///
+/// The tension is the continuum's: T = EA (L_p(T) / L0 - 1), L_p the belt's
+/// path at its pitch line ([`pitch_length`]: the pulleys' radii, each span
+/// with its static sag, which shortens as T grows). It does not depend on
+/// the mesh or the contact stiffness; the mounted chain then carries T
+/// (docs/model.md "Layout and preload"). T - EA (L_p(T) / L0 - 1) grows
+/// with T: bisection.
+pub fn installed(params: &DriveParams) -> Result<std::borrow::Cow<'_, DriveParams>, ParamError> {
+    let target = params.belt.natural_length;
+    if target <= 0.0 {
+        return Ok(std::borrow::Cow::Borrowed(params));
+    }
+    // With an arm the arm's angle is a second unknown, which needs the
+    // spring's free angle given; today the spring follows from the preload.
+    if let Some(j) = params.pulleys.iter().position(|p| p.tensioner) {
+        return Err(param_error(
+            Param::BeltNaturalLength,
+            msg![
+                "is not available with a tensioner arm (",
+                Param::PulleyTensioner(j),
+                "): its spring's free angle follows from the installation tension, so ",
+                Param::BeltPreload,
+                " must set the tension",
+            ],
+        ));
+    }
+    let ea = params.belt.ea;
+    let path = PitchPath::new(params)?;
+    let excess = |t: f64| t - ea * (path.length(params, t) / target - 1.0);
+    let straight = path.length(params, 0.0);
+    if straight <= target {
+        return Err(param_error(
+            Param::BeltNaturalLength,
+            format!(
+                "a belt of {target} m must be shorter than its path round the pulleys at their \
+                 radii ({straight:.6} m), else it hangs slack: give a shorter belt or move the \
+                 pulleys apart"
+            ),
+        ));
+    }
+    let (mut lo, mut hi) = (0.0, 0.5 * ea);
+    if excess(hi) <= 0.0 {
+        return Err(param_error(
+            Param::BeltNaturalLength,
+            msg![
+                format!(
+                    "a belt of {target} m stretched onto its {straight:.6} m path would carry \
+                     more than half of "
+                ),
+                Param::BeltEa,
+                ": it must be longer (lengths are in metres), or the pulleys closer",
+            ],
+        ));
+    }
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if excess(mid) > 0.0 {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+        if hi - lo <= 1e-14 * ea {
+            break;
+        }
+    }
+    let mut p = params.clone();
+    p.belt.natural_length = 0.0;
+    p.belt.preload = 0.5 * (lo + hi);
+    Ok(std::borrow::Cow::Owned(p))
+}
+
+/// The belt's length at its pitch line under the tension `tension` [m]:
+/// spans and wraps at the pulleys' radii, each span's static sag added
+/// (the parabola of [`sag_shape`], longer than its chord by s^2 L^3 / 6).
+pub fn pitch_length(params: &DriveParams, tension: f64) -> Result<f64, ParamError> {
+    Ok(PitchPath::new(params)?.length(params, tension))
+}
+
+/// The natural length of the belt whose installation tension is
+/// `params.belt.preload` (`belt.length`): L_p / (1 + T/EA), the inverse of
+/// [`installed`].
+pub fn natural_length(params: &DriveParams) -> Result<f64, ParamError> {
+    let b = &params.belt;
+    Ok(pitch_length(params, b.preload)? / (1.0 + b.preload / b.ea))
+}
+
+/// The belt path at the pulleys' radii.
+struct PitchPath {
+    spans: Vec<Span>,
+    wrapped: f64,
+}
+
+impl PitchPath {
+    fn new(params: &DriveParams) -> Result<Self, ParamError> {
+        let radii: Vec<f64> = params.pulleys.iter().map(|p| p.radius).collect();
+        let (spans, wraps) = path_in_belt_order(params, &radii)?;
+        let wrapped = wraps.iter().map(|w| w.angle * radii[w.pulley]).sum();
+        Ok(Self { spans, wrapped })
+    }
+
+    fn length(&self, params: &DriveParams, tension: f64) -> f64 {
+        let b = &params.belt;
+        let rho = b.mass_per_length / (1.0 + tension / b.ea);
+        let spans: f64 = self
+            .spans
+            .iter()
+            .map(|sp| {
+                let (s, _) = sag_shape(params, sp, rho, tension);
+                sp.length * (1.0 + s * s * sp.length * sp.length / 6.0)
+            })
+            .sum();
+        spans + self.wrapped
+    }
+}
+
+/// A span's static sag under gravity: the coefficient s of the parabola
+/// w(d) = s d (L - d) (s = rho' g_n / (2 T), rho' the mass per stretched
+/// length, g_n the part of gravity across the span; the catenary within
+/// (sag / L)^2) and the span's normal on gravity's side. A span without
+/// tension, or so slack that its sag exceeds a twentieth of the span
+/// (beyond the shallow string), gets s = 0: it is mounted straight.
+fn sag_shape(params: &DriveParams, sp: &Span, rho: f64, tension: f64) -> (f64, [f64; 2]) {
+    let dir = [sp.angle.cos(), sp.angle.sin()];
+    // the span's normal on gravity's side (gravity acts in -y)
+    let down = if dir[0] >= 0.0 {
+        [dir[1], -dir[0]]
+    } else {
+        [-dir[1], dir[0]]
+    };
+    let g_n = -params.gravity * down[1];
+    let sag = rho * g_n / (2.0 * tension);
+    let shallow = tension > 0.0 && sag * sp.length <= 0.2;
+    (if shallow { sag } else { 0.0 }, down)
+}
+
 impl Layout {
     /// Builds the belt path and the mounted belt. `params` must have passed
     /// [`DriveParams::validate`].
@@ -650,26 +789,15 @@ impl EndPath {
         let b = &params.belt;
         let rho = b.mass_per_length / (1.0 + b.preload / b.ea);
         for (sp, w) in spans.iter().zip(wraps) {
-            let dir = [sp.angle.cos(), sp.angle.sin()];
-            // the span's normal on gravity's side (gravity acts in -y)
-            let down = if dir[0] >= 0.0 {
-                [dir[1], -dir[0]]
-            } else {
-                [-dir[1], dir[0]]
-            };
-            let g_n = -params.gravity * down[1];
-            // mid-span sag rho' g_n L^2 / (8 T0); a belt mounted without
-            // preload, or so slack that its sag exceeds a twentieth of the
-            // span (beyond the shallow string), is mounted straight
-            let sag = rho * g_n / (2.0 * b.preload);
-            let shallow = b.preload > 0.0 && sag * sp.length <= 0.2;
+            // mid-span sag rho' g_n L^2 / (8 T0) (`sag_shape`)
+            let (sag, down) = sag_shape(params, sp, rho, b.preload);
             segs.push(Segment::Line {
                 s0: s,
                 heading,
                 start: sp.start,
-                dir,
+                dir: [sp.angle.cos(), sp.angle.sin()],
                 len: sp.length,
-                sag: if shallow { sag } else { 0.0 },
+                sag,
                 down,
             });
             s += sp.length;

@@ -184,6 +184,10 @@ pub struct BeltParams {
     pub n_bodies: usize,
     /// Static tension at assembly [N].
     pub preload: f64,
+    /// Natural length of the belt at its pitch line [m]; 0 = the preload
+    /// sets the tension, otherwise mounting solves for the tension
+    /// (`crate::model::layout::installed`).
+    pub natural_length: f64,
     /// Axial stiffness [N]; each translational SDE gets EA / l.
     pub ea: f64,
     /// Axial damping [N s] (force per unit strain rate); each SDE gets value / l.
@@ -347,6 +351,7 @@ impl Default for DriveParams {
             belt: BeltParams {
                 n_bodies: Param::BeltBodies.start() as usize,
                 preload: Param::BeltPreload.start(),
+                natural_length: Param::BeltNaturalLength.start(),
                 ea: Param::BeltEa.start(),
                 axial_damping: Param::BeltAxialDamping.start(),
                 shear_damping_factor: Param::BeltShearDampingFactor.start(),
@@ -384,6 +389,7 @@ impl DriveParams {
             belt: BeltParams {
                 n_bodies: 150,
                 preload: 550.0,
+                natural_length: 0.0,
                 ea: 1.52e5,
                 axial_damping: 20.5 * l,
                 // the paper's SDE damps the gap's stretch only (eq. 20)
@@ -440,6 +446,7 @@ impl DriveParams {
             belt: BeltParams {
                 n_bodies: 60,
                 preload: 150.0,
+                natural_length: 0.0,
                 ea: 1e4,
                 axial_damping: 0.5 * l,
                 shear_damping_factor: 0.0,
@@ -645,6 +652,28 @@ impl DriveParams {
         declared_count(Param::BeltBodies, b.n_bodies)?;
         declared(Param::BeltPreload, b.preload)?;
         declared(Param::BeltEa, b.ea)?;
+        declared(Param::BeltNaturalLength, b.natural_length)?;
+        // The tension comes from the preload or from the belt's length,
+        // never from both: a preload other than its default beside a length
+        // is refused rather than ignored.
+        if b.natural_length > 0.0 && b.preload != Param::BeltPreload.start() {
+            return Err(param_error(
+                Param::BeltNaturalLength,
+                msg![
+                    format!("{} m and ", shown(b.natural_length)),
+                    Param::BeltPreload,
+                    format!(
+                        " = {} N both set the installation tension: one of them must stay unset \
+                         (set ",
+                        shown(b.preload)
+                    ),
+                    Param::BeltNaturalLength,
+                    " to 0 to install at the preload, or leave ",
+                    Param::BeltPreload,
+                    format!(" at its default {} N)", shown(Param::BeltPreload.start())),
+                ],
+            ));
+        }
         // A stiffness typed in kN (152 for the 5PK belt's 152 kN; drive belts
         // have 1 to 1000 kN) stretches the belt beyond any real strain under
         // a preload in N; when read in kN the strain would be a belt's (below

@@ -66,6 +66,10 @@ pub static REGISTRY: &[Item] = &[
         .min("0")
         .id("BeltPreload", "belt preload")
         .about("Belt preload (static tension at assembly)")),
+    Item::One(param("belt.naturalLength", Vr::Fixed(30), Ty::Real("Length"), &["0"])
+        .min("0")
+        .id("BeltNaturalLength", "belt natural length")
+        .about("Natural (unstretched) length of the belt at its pitch line, as the belt is specified; 0 (default) = the installation tension is belt.preload. When given, mounting finds the tension at which the belt of this length fits the drive (reported as belt.installedTension; belt.preload must then stay at its default). A catalogue's effective length L_e of a V-ribbed belt is converted to the pitch line by L_e + 2 pi h_b (docs/fmu-manual.md)")),
     Item::One(param("belt.EA", Vr::Fixed(11), Ty::Real("Force"), &["1.52e5"])
         .above("0")
         .id("BeltEa", "belt axial stiffness EA")
@@ -193,6 +197,8 @@ pub static REGISTRY: &[Item] = &[
         .about("Largest SDE tension in the belt")),
     Item::One(output("belt.length", Vr::Fixed(1003), Ty::Real("Length"))
         .about("Natural (unstretched) belt length chosen for the preload")),
+    Item::One(calculated("belt.installedTension", Vr::Fixed(1016), Ty::Real("Force"))
+        .about("Installation tension: belt.preload, or with belt.naturalLength given the tension at which the belt of that length fits the drive")),
     Item::One(output("probe.sdeForce", Vr::Fixed(1004), Ty::Real("Force"))
         .about("Force in the translational SDE ahead of (left of) the probe body (Fig. 15)")),
     Item::One(output("probe.x", Vr::Fixed(1005), Ty::Real("Position"))
