@@ -88,12 +88,14 @@ impl StiffSystem for BeltSystem {
     }
     /// Body angles and spins carry only the damped artificial modes: weight
     /// 1e-3 (not left out altogether, so a step that goes unstable in them is
-    /// still rejected). The body velocities' weight is the friction law's
-    /// (`friction::Law::velocity_error_weight`).
+    /// still rejected). The body velocities' weight depends on whether the
+    /// friction law follows the sliding velocity
+    /// (`SolverTuning::velocity_error_weight`).
     fn error_mask(&self, rel_tol: f64, mask: &mut [f64]) {
         const ANGLES: f64 = TUNING.weight_angles;
         mask.fill(1.0);
-        let velocities = self.friction.velocity_error_weight(rel_tol);
+        let velocities =
+            TUNING.velocity_error_weight(self.friction.follows_sliding_velocity(), rel_tol);
         for body in mask[..BODY_DOF * self.n].chunks_exact_mut(BODY_DOF) {
             body[2] = ANGLES;
             body[5] = ANGLES;

@@ -150,6 +150,31 @@ pub struct SolverTuning {
     pub weak_contact_damping: f64,
 }
 
+impl SolverTuning {
+    /// Weight of the body velocities in the stiff method's error norm at
+    /// relative tolerance `rel_tol`, for a friction law that follows the
+    /// sliding velocity itself (`friction::Law::follows_sliding_velocity`)
+    /// or not. The paper's law: 1, friction follows the sliding velocity,
+    /// and a step that jumps across the stick band |v_T| < dv lands on the
+    /// sliding branch, whose linearisation has no friction slope. The creep
+    /// law: the body velocities carry the damped artificial modes, but also
+    /// the creep velocities that set the slip: weight
+    /// `weight_creep_velocities` (1e-2; 1e-3 let the 5PK slip drift 5 % from
+    /// RKF45's, 1e-2 0.3 %, for 28 % more steps; docs/model.md), and never
+    /// looser than a relative tolerance of `creep_velocity_max_rel_tol` on
+    /// them: at relTol 1e-3 a weight of 1e-2 let the steps lose the creep
+    /// arcs.
+    pub fn velocity_error_weight(&self, follows_sliding_velocity: bool, rel_tol: f64) -> f64 {
+        if follows_sliding_velocity {
+            1.0
+        } else {
+            self.weight_creep_velocities
+                .max(rel_tol / self.creep_velocity_max_rel_tol)
+                .min(1.0)
+        }
+    }
+}
+
 /// The values in use.
 pub const TUNING: SolverTuning = SolverTuning {
     weight_angles: 1e-3,

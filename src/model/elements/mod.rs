@@ -6,7 +6,7 @@
 //! * [`sde`]: translational and torsional spring-damper between bodies, eq. 20-23;
 //! * [`contact`]: penalty contact and the contact force with friction, eq. 4-11, 19;
 //! * [`friction`]: the friction laws (a `Law` each: coefficient, partials, creep
-//!   cap, spring energy, error weight), eq. 12-19 and ref. [11];
+//!   cap, spring energy, whether it follows the sliding velocity), eq. 12-19 and ref. [11];
 //! * [`pulley`]: a pulley's drive and load, eq. 24;
 //! * [`groove`]: the wedge factor of a V-ribbed groove on the friction
 //!   coefficient;

@@ -9,7 +9,6 @@
 
 use super::{s_curve, s_curve_slope, Law};
 use crate::model::elements::contact::{smoothstep, smoothstep_slope};
-use crate::solver::knobs::TUNING;
 
 /// Creep displacement at which the creep law slides at mu_k (1.5 Delta_max:
 /// the static-to-kinetic transition spans Delta_max..1.5 Delta_max, as the
@@ -119,18 +118,10 @@ impl Law for Creep {
         self.creep_max * (mu_s * elastic(u.min(1.0)) + slide)
     }
 
-    /// The body velocities carry the damped artificial modes, but also the
-    /// creep velocities that set the slip: weight
-    /// `SolverTuning::weight_creep_velocities` (1e-2; 1e-3 let the 5PK slip
-    /// drift 5 % from RKF45's, 1e-2 0.3 %, for 28 % more steps;
-    /// docs/model.md), and never looser than a relative tolerance of
-    /// `SolverTuning::creep_velocity_max_rel_tol` on them: at relTol 1e-3 a
-    /// weight of 1e-2 let the steps lose the creep arcs.
-    fn velocity_error_weight(&self, rel_tol: f64) -> f64 {
-        TUNING
-            .weight_creep_velocities
-            .max(rel_tol / TUNING.creep_velocity_max_rel_tol)
-            .min(1.0)
+    /// Friction follows the creep displacement z: the body velocities carry
+    /// the damped artificial modes and the creep velocities that set the slip.
+    fn follows_sliding_velocity(&self) -> bool {
+        false
     }
 }
 

@@ -89,11 +89,11 @@ impl Law for Kubas2014 {
         self.creep_max * (mu_s * elastic(u.min(1.0)) + slide)
     }
 
-    /// Friction follows the sliding velocity itself, and a step that jumps
+    /// Friction follows the sliding velocity itself (a step that jumps
     /// across the stick band |v_T| < dv lands on the sliding branch, whose
-    /// linearisation has no friction slope: the velocities keep full weight.
-    fn velocity_error_weight(&self, _rel_tol: f64) -> f64 {
-        1.0
+    /// linearisation has no friction slope).
+    fn follows_sliding_velocity(&self) -> bool {
+        true
     }
 }
 

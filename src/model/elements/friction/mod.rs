@@ -4,8 +4,9 @@
 //! integrated as a state (dz/dt = v_T).
 //!
 //! Each law is a [`Law`]: its coefficient, the coefficient's partial
-//! derivatives, the creep cap, the energy its creep spring stores and the
-//! error weight it asks of the stiff method, in its own file. What follows
+//! derivatives, the creep cap, the energy its creep spring stores and
+//! whether the friction force follows the sliding velocity itself, in its
+//! own file. What follows
 //! from these alone (the creep rate, the dissipated power) is written once,
 //! here, as the trait's provided methods.
 //!
@@ -71,10 +72,13 @@ pub trait Law: Copy {
     /// the law gives at rest. Even in z, >= 0, and Phi'(z) = mu(0, z).
     fn spring_energy(&self, z: f64, mu_s: f64, mu_k: f64) -> f64;
 
-    /// Weight of the body velocities in the stiff method's error norm at
-    /// relative tolerance `rel_tol` (the body angles and spins have theirs in
-    /// `SolverTuning::weight_angles`).
-    fn velocity_error_weight(&self, rel_tol: f64) -> f64;
+    /// Whether the friction force follows the sliding velocity v_T itself
+    /// (true: a steep function of v_T, as the paper's law over its stick band
+    /// dv) or the creep displacement z (false: the creep velocities are
+    /// ~1e-3 of the belt speed and only set the slip). The stiff method
+    /// weights the body velocities in its error norm by this
+    /// (`SolverTuning::velocity_error_weight`).
+    fn follows_sliding_velocity(&self) -> bool;
 
     /// dz/dt: the creep displacement follows the relative velocity until it
     /// reaches its cap, where it holds while the motion keeps pushing outward.
@@ -242,8 +246,8 @@ impl Law for Friction {
     fn spring_energy(&self, z: f64, mu_s: f64, mu_k: f64) -> f64 {
         with_law!(*self, law => law.spring_energy(z, mu_s, mu_k))
     }
-    fn velocity_error_weight(&self, rel_tol: f64) -> f64 {
-        with_law!(*self, law => law.velocity_error_weight(rel_tol))
+    fn follows_sliding_velocity(&self) -> bool {
+        with_law!(*self, law => law.follows_sliding_velocity())
     }
 }
 
