@@ -72,13 +72,17 @@ fn section4_file_is_the_papers_drive_and_the_default() {
     // the default is the automatic ramp (0); for the SDE's damper: the
     // paper's acts along the gap only (0), the default's across it too (1);
     // and for the contact points: the set spells out the paper's centre
-    // contact (1), the default is the contact along the body at 4 points
+    // contact (1), the default is the contact along the body at 4 points;
+    // and for the span damping: the paper's model has none (0), the
+    // default damps the spans (belt.transverseDamping 25 1/s)
     let mut default = p.clone();
     default.contact.p_max = 0.0;
     assert_eq!(p.belt.shear_damping_factor, 0.0);
     default.belt.shear_damping_factor = 1.0;
     assert_eq!(p.contact.points, 1);
     default.contact.points = 4;
+    assert_eq!(p.belt.transverse_damping, 0.0);
+    default.belt.transverse_damping = 25.0;
     assert_eq!(BeltDrive::new().drive_params().unwrap(), default);
     assert_eq!(default, with_fmu_guard(DriveParams::default()));
 }

@@ -327,10 +327,20 @@ fn reference_rhs<R: Recorder>(
     }
     let c = s.relaxation().damping;
     let (inv_mass, inv_inertia) = (1.0 / s.mass(), 1.0 / s.inertia());
+    // transverse damping: the centre velocity's component across the body
+    // axis, n = (-sin phi, cos phi), damped at the rate gamma
+    let gamma = s.transverse().rate;
     for i in 0..n {
         let o = BODY_DOF * i;
-        dy[o + 3] = dy[o + 3] * inv_mass - c * y[o + 3];
-        dy[o + 4] = dy[o + 4] * inv_mass - c * y[o + 4];
+        let (sn, cs) = y[o + 2].sin_cos();
+        let v_n = -sn * y[o + 3] + cs * y[o + 4];
+        let (tx, ty) = (gamma * v_n * sn, -gamma * v_n * cs);
+        p_diss += s.mass() * gamma * v_n * v_n;
+        p_diss_mag += s.mass() * gamma * v_n * v_n;
+        dy[o + 3] = dy[o + 3] * inv_mass - c * y[o + 3] + tx;
+        dy[o + 4] = dy[o + 4] * inv_mass - c * y[o + 4] + ty;
+        mag[o + 3] += tx.abs() / inv_mass;
+        mag[o + 4] += ty.abs() / inv_mass;
         dy[o + 5] = dy[o + 5] * inv_inertia - c * y[o + 5];
         mag[o + 3] = mag[o + 3] * inv_mass + (c * y[o + 3]).abs();
         mag[o + 4] = mag[o + 4] * inv_mass + (c * y[o + 4]).abs();
@@ -783,6 +793,8 @@ fn drives() -> Vec<(&'static str, DriveParams)> {
     accessory.pulleys = vec![crank, idler, alternator, mk(0.3, -0.05, 0.05)];
     accessory.belt.n_bodies = 203;
     accessory.belt.bending_damping = 1e-5;
+    // the transverse (span) damping at its default rate
+    accessory.belt.transverse_damping = 25.0;
     // the default SDE: damping across the gap as along it
     accessory.belt.shear_damping_factor = 1.0;
     // the same with the back-side idler and the last pulley (inside the

@@ -78,6 +78,7 @@ fn real_slot<'a>(p: &'a mut DriveParams, v: &VarInfo) -> Option<&'a mut f64> {
         Var::BeltShearDampingFactor => &mut p.belt.shear_damping_factor,
         Var::BeltBendingStiffness => &mut p.belt.bending_stiffness,
         Var::BeltBendingDamping => &mut p.belt.bending_damping,
+        Var::BeltTransverseDamping => &mut p.belt.transverse_damping,
         Var::BeltMassPerLength => &mut p.belt.mass_per_length,
         Var::Gravity => &mut p.gravity,
         Var::ContactC1 => &mut p.contact.c1,

@@ -201,6 +201,11 @@ pub struct BeltParams {
     pub bending_stiffness: f64,
     /// Bending damping [N m^2 s]; each torsional SDE gets value / l.
     pub bending_damping: f64,
+    /// Transverse (span) damping rate gamma [1/s]: each body's centre
+    /// velocity across its axis is damped by m gamma
+    /// (`elements::transverse`); a span mode of angular frequency omega gets
+    /// the damping ratio gamma / (2 omega).
+    pub transverse_damping: f64,
     /// [kg/m]
     pub mass_per_length: f64,
 }
@@ -357,6 +362,7 @@ impl Default for DriveParams {
                 shear_damping_factor: Param::BeltShearDampingFactor.start(),
                 bending_stiffness: Param::BeltBendingStiffness.start(),
                 bending_damping: Param::BeltBendingDamping.start(),
+                transverse_damping: Param::BeltTransverseDamping.start(),
                 mass_per_length: Param::BeltMassPerLength.start(),
             },
             contact: ContactParams {
@@ -396,6 +402,7 @@ impl DriveParams {
                 shear_damping_factor: 0.0,
                 bending_stiffness: 0.026 * l,
                 bending_damping: 0.0,
+                transverse_damping: 0.0,
                 mass_per_length: 0.096,
             },
             contact: ContactParams {
@@ -452,6 +459,7 @@ impl DriveParams {
                 shear_damping_factor: 0.0,
                 bending_stiffness: 0.0208 * l,
                 bending_damping: 0.0,
+                transverse_damping: 0.0,
                 mass_per_length: 1.036,
             },
             contact: ContactParams {
@@ -705,6 +713,7 @@ impl DriveParams {
         declared(Param::BeltShearDampingFactor, b.shear_damping_factor)?;
         declared(Param::BeltBendingStiffness, b.bending_stiffness)?;
         declared(Param::BeltBendingDamping, b.bending_damping)?;
+        declared(Param::BeltTransverseDamping, b.transverse_damping)?;
         declared(Param::BeltMassPerLength, b.mass_per_length)?;
         let c = &self.contact;
         declared(Param::ContactC1, c.c1)?;

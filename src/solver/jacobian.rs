@@ -841,6 +841,20 @@ impl BeltSystem {
                 }
             }
         }
+        // transverse damping of the body centres (elements::transverse)
+        let transverse = self.transverse();
+        if transverse.acts() {
+            for (i, b) in jac.bodies.iter_mut().enumerate() {
+                let o = BODY_DOF * i;
+                let (d_v, d_phi) = transverse.partials(y[o + 2], [y[o + 3], y[o + 4]]);
+                for r in 0..2 {
+                    b.aq[SELF][(r, 2)] += d_phi[r];
+                    for c in 0..2 {
+                        b.av[SELF][(r, c)] += d_v[r][c];
+                    }
+                }
+            }
+        }
         // Pulley load damping (eq. 24, Fig. 13), on the hub or, through a
         // decoupler, on its rotor; the decoupler's terms.
         for j in 0..np {

@@ -62,7 +62,9 @@ def test_section4_file_holds_the_fmu_defaults(md):
     default is the automatic ramp (0); and for the SDE's damper: the paper's
     acts along the gap only (belt.shearDampingFactor 0), the FMU's default
     across it too (1); and for the contact points: the paper's centre contact
-    (contact.points 1), the FMU's default 4 points along each body."""
+    (contact.points 1), the FMU's default 4 points along each body; and for
+    the span damping: none in the paper's model (belt.transverseDamping 0),
+    25 1/s by default."""
     variables = {v.name: v for v in md.modelVariables}
     parameter_set = read_ssv(str(ROOT / "parameters/kubas2014-section4.ssv"))
     for p in parameter_set.parameters:
@@ -73,6 +75,8 @@ def test_section4_file_holds_the_fmu_defaults(md):
             assert float(p.value) == 0.0 and float(start) == 1.0
         elif p.name == "contact.points":
             assert int(p.value) == 1 and int(start) == 4
+        elif p.name == "belt.transverseDamping":
+            assert float(p.value) == 0.0 and float(start) == 25.0
         elif p.type == "Real":
             assert float(p.value) == float(start), p.name
         else:

@@ -386,10 +386,14 @@ pub static REGISTRY: &[Item] = &[
     ),
     Item::One(output("belt.powerLoss", Vr::Fixed(1800), Ty::Real("Power"))
         .deps(Deps::AllOmegaRef)
-        .about("Power dissipated in the belt (>= 0): its axial and bending dampers, contact damping and friction slip; not the creep springs' exchange with the normal force (not signed at an instant, a loss over whole passes of the bodies: power.dissipated holds it) and not the loads' power (power.dissipated adds it)")),
+        .about("Power dissipated in the belt (>= 0): its axial, bending and transverse dampers, contact damping and friction slip; not the creep springs' exchange with the normal force (not signed at an instant, a loss over whole passes of the bodies: power.dissipated holds it) and not the loads' power (power.dissipated adds it)")),
     Item::One(param("belt.shearDampingFactor", Vr::Fixed(28), Ty::Real("Factor"), &["1"])
         .min("0")
         .id("BeltShearDampingFactor", "belt shear damping factor")
         .about("Damping of each spring-damper element across its gap (the joint's shear: the bodies pitching against each other) as a multiple of belt.axialDamping; 1 = isotropic Kelvin-Voigt element, its damper acting on the gap vector as its spring does; 0 = the paper's damper along the gap only (eq. 20), which leaves the bodies' pitching in the spans undamped")),
+    Item::One(param("belt.transverseDamping", Vr::Fixed(29), Ty::Real("DampingRate"), &["25"])
+        .min("0")
+        .id("BeltTransverseDamping", "belt transverse damping")
+        .about("Damping of the belt's motion across its length (the spans' vibration: air and the span ends), per unit mass: each body's centre velocity across its axis is damped by its mass times this rate; a span mode of frequency f gets the damping ratio value/(4 pi f) (the default: 2 % at 100 Hz); no loss in steady running; 0 = none (the paper's model)")),
 
 ];

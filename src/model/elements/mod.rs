@@ -12,6 +12,8 @@
 //!   coefficient;
 //! * [`decoupler`]: the one-way decoupler between a pulley hub and its
 //!   rotor (torsion spring and damper in series with a one-way clutch);
+//! * [`transverse`]: the transverse (span) damping of each body's centre velocity
+//!   across its axis;
 //! * [`tensioner`]: an automatic tensioner arm: the pulley centre on the
 //!   arm, the moment of the hub force about the pivot and the arm's pivot
 //!   torque (spring, viscous damper, regularised Coulomb friction).
@@ -23,3 +25,4 @@ pub mod groove;
 pub mod pulley;
 pub mod sde;
 pub mod tensioner;
+pub mod transverse;

@@ -22,6 +22,7 @@ use crate::model::elements::groove::friction_factor;
 pub use crate::model::elements::pulley::PulleyConst;
 use crate::model::elements::sde::{self, AxialSde, BodyEnd, TorsionalSde};
 use crate::model::elements::tensioner::Arm;
+use crate::model::elements::transverse::TransverseDamper;
 use crate::model::layout::Layout;
 use crate::model::params::{DriveParams, MAX_PULLEYS};
 use crate::model::simd::{self, Isa};
@@ -137,6 +138,8 @@ pub struct BeltSystem {
     pub(crate) axial: AxialSde,
     /// Torsional SDE between neighbouring bodies (EI/l, damping).
     pub(crate) bend: TorsionalSde,
+    /// Damping of each body's motion across its axis (span damping).
+    pub(crate) transverse: TransverseDamper,
     /// Gravitational acceleration [m/s^2] (acts in -y).
     pub(crate) gravity: f64,
     pub(crate) contact: ContactLaw,
@@ -729,6 +732,9 @@ impl BeltSystem {
                 k: b.bending_stiffness / l,
                 b: b.bending_damping / l,
             },
+            transverse: TransverseDamper {
+                rate: b.transverse_damping,
+            },
             gravity: params.gravity,
             contact: ContactLaw {
                 c1: c.c1 * l,
@@ -833,6 +839,11 @@ impl BeltSystem {
     /// The torsional SDE between neighbouring bodies.
     pub fn bend(&self) -> TorsionalSde {
         self.bend
+    }
+
+    /// The transverse (span) damping of every body.
+    pub fn transverse(&self) -> TransverseDamper {
+        self.transverse
     }
 
     /// The normal-force law of every contact.
@@ -1352,6 +1363,25 @@ impl BeltSystem {
             b.ay[j] = (b.ofy[j] - b.fy[j] + b.fy[j + 1]) * inv_m - c * b.vy[m];
             let torque = b.torque_cur[j] + b.torque_prev[j + 1];
             b.alpha[j] = torque * inv_i - c * b.w[m];
+        }
+        // transverse damping of the body centres (elements::transverse),
+        // its power with the belt's losses
+        if self.transverse.acts() {
+            let inv_h2 = 1.0 / (self.half_length * self.half_length);
+            let mut power = 0.0;
+            for j in 0..len {
+                let m = j + 1;
+                let (a, p) =
+                    self.transverse
+                        .acceleration([b.hx[m], b.hy[m]], inv_h2, [b.vx[m], b.vy[m]]);
+                b.ax[j] += a[0];
+                b.ay[j] += a[1];
+                power += p;
+            }
+            p_diss += self.mass * power;
+            if R::ACTIVE {
+                rec.belt_loss(self.mass * power);
+            }
         }
         if along {
             for j in 0..len {
