@@ -440,6 +440,62 @@ fn sag_shape(params: &DriveParams, sp: &Span, rho: f64, tension: f64) -> (f64, [
     (if shallow { sag } else { 0.0 }, down)
 }
 
+/// Two pulleys must not overlap; a radius that reaches the other pulley is
+/// named as the likely mistake (millimetres).
+fn check_overlaps(params: &DriveParams) -> Result<(), ParamError> {
+    let np = params.pulleys.len();
+    for a in 0..np {
+        for b in a + 1..np {
+            let (pa, pb) = (&params.pulleys[a], &params.pulleys[b]);
+            let dist = (pb.x - pa.x).hypot(pb.y - pa.y);
+            if dist <= pa.radius + pb.radius {
+                // A radius that alone reaches the other pulley's centre
+                // and is ten times the other's is the implausible number
+                // (typically typed in millimetres), not the position.
+                let (k, r, r_other) = if pa.radius >= pb.radius {
+                    (a, pa.radius, pb.radius)
+                } else {
+                    (b, pb.radius, pa.radius)
+                };
+                if r >= dist && r >= 10.0 * r_other {
+                    let other = if k == a { b } else { a };
+                    let unit = if r >= 1.0 {
+                        format!(
+                            "; radii are in metres: if {r} was meant in millimetres, \
+                             set {}",
+                            r * 1e-3
+                        )
+                    } else {
+                        String::new()
+                    };
+                    return Err(param_error(
+                        Param::PulleyRadius(k),
+                        msg![
+                            format!("{r} m must be less than the centre distance {dist:.4} m to "),
+                            Part::Pulley(other),
+                            unit,
+                        ],
+                    ));
+                }
+                return Err(param_error(
+                    Param::PulleyX(b),
+                    msg![
+                        Part::Pulley(b),
+                        " overlaps ",
+                        Part::Pulley(a),
+                        format!(
+                            ": centre distance {dist:.4} m must exceed the sum of radii \
+                             {:.4} m",
+                            pa.radius + pb.radius
+                        ),
+                    ],
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 impl Layout {
     /// Builds the belt path and the mounted belt. `params` must have passed
     /// [`DriveParams::validate`].
@@ -450,58 +506,7 @@ impl Layout {
     /// [`new`](Self::new); `diagnose` lets a refusal for a coarse mesh try
     /// the other wrap side of the pulley (once: not when called for that).
     fn build(params: &DriveParams, diagnose: bool) -> Result<Self, ParamError> {
-        let np = params.pulleys.len();
-        for a in 0..np {
-            for b in a + 1..np {
-                let (pa, pb) = (&params.pulleys[a], &params.pulleys[b]);
-                let dist = (pb.x - pa.x).hypot(pb.y - pa.y);
-                if dist <= pa.radius + pb.radius {
-                    // A radius that alone reaches the other pulley's centre
-                    // and is ten times the other's is the implausible number
-                    // (typically typed in millimetres), not the position.
-                    let (k, r, r_other) = if pa.radius >= pb.radius {
-                        (a, pa.radius, pb.radius)
-                    } else {
-                        (b, pb.radius, pa.radius)
-                    };
-                    if r >= dist && r >= 10.0 * r_other {
-                        let other = if k == a { b } else { a };
-                        let unit = if r >= 1.0 {
-                            format!(
-                                "; radii are in metres: if {r} was meant in millimetres, \
-                                 set {}",
-                                r * 1e-3
-                            )
-                        } else {
-                            String::new()
-                        };
-                        return Err(param_error(
-                            Param::PulleyRadius(k),
-                            msg![
-                                format!(
-                                    "{r} m must be less than the centre distance {dist:.4} m to "
-                                ),
-                                Part::Pulley(other),
-                                unit,
-                            ],
-                        ));
-                    }
-                    return Err(param_error(
-                        Param::PulleyX(b),
-                        msg![
-                            Part::Pulley(b),
-                            " overlaps ",
-                            Part::Pulley(a),
-                            format!(
-                                ": centre distance {dist:.4} m must exceed the sum of radii \
-                                 {:.4} m",
-                                pa.radius + pb.radius
-                            ),
-                        ],
-                    ));
-                }
-            }
-        }
+        check_overlaps(params)?;
         // The path of the body centres runs around circles shrunk by the
         // equilibrium penetration (so spans and arcs meet without a step);
         // that penetration depends on the body length: iterate.
@@ -520,9 +525,42 @@ impl Layout {
         let (spans, wraps, path_length, body_length) = result.expect("at least one iteration");
         check_spans(params, &spans)?;
 
-        // Every wrap must be resolved by a few bodies and no body may span
-        // a large part of a pulley.
-        for w in &wraps {
+        Self::check_wraps_resolved(params, &wraps, path_length, body_length, diagnose)?;
+        // End points run on circles of radius sqrt(rho^2 + l^2/4) around the
+        // pulleys, so body centres sit at the equilibrium radius rho = r - p0.
+        let end_path = |l: f64| {
+            let mut radii_e = vec![0.0; params.pulleys.len()];
+            for w in &wraps {
+                let rho = params.pulleys[w.pulley].radius - w.penetration;
+                radii_e[w.pulley] = (rho * rho + 0.25 * l * l).sqrt();
+            }
+            let (spans_e, wraps_e) = path_in_belt_order(params, &radii_e)?;
+            Ok((spans_e, wraps_e, radii_e))
+        };
+        let (body_length, bodies) = place_bodies(params, end_path, body_length)?;
+        let (lines, _, _) = end_path(body_length)?;
+        Ok(Self {
+            spans,
+            wraps,
+            body_length,
+            path_length,
+            bodies,
+            lines,
+        })
+    }
+
+    /// Every wrap must be resolved by a few bodies and no body may span a
+    /// large part of a pulley: the refusal names the likely mistake
+    /// (millimetres, the wrap side, or the body count). `diagnose` as in
+    /// [`build`](Self::build).
+    fn check_wraps_resolved(
+        params: &DriveParams,
+        wraps: &[Wrap],
+        path_length: f64,
+        body_length: f64,
+        diagnose: bool,
+    ) -> Result<(), ParamError> {
+        for w in wraps {
             let per_arc = w.angle / w.pitch_angle;
             // A body longer than the pulley's diameter has no pitch angle at
             // all (NaN or negative): also too coarse.
@@ -601,27 +639,7 @@ impl Layout {
                 ));
             }
         }
-        // End points run on circles of radius sqrt(rho^2 + l^2/4) around the
-        // pulleys, so body centres sit at the equilibrium radius rho = r - p0.
-        let end_path = |l: f64| {
-            let mut radii_e = vec![0.0; params.pulleys.len()];
-            for w in &wraps {
-                let rho = params.pulleys[w.pulley].radius - w.penetration;
-                radii_e[w.pulley] = (rho * rho + 0.25 * l * l).sqrt();
-            }
-            let (spans_e, wraps_e) = path_in_belt_order(params, &radii_e)?;
-            Ok((spans_e, wraps_e, radii_e))
-        };
-        let (body_length, bodies) = place_bodies(params, end_path, body_length)?;
-        let (lines, _, _) = end_path(body_length)?;
-        Ok(Self {
-            spans,
-            wraps,
-            body_length,
-            path_length,
-            bodies,
-            lines,
-        })
+        Ok(())
     }
 
     /// The free span from pulley `a` to pulley `b` in the listed belt order
