@@ -19,7 +19,8 @@ use std::fmt::Write as _;
 use std::io::Write as _;
 
 use belt_drive::model::params::Method;
-use belt_drive::model::system::{Recorder, Workspace, BODY_DOF};
+use belt_drive::model::state::body;
+use belt_drive::model::system::{Recorder, Workspace};
 use belt_drive::{Drive, DriveParams};
 
 /// SDE tensions of one right-hand-side evaluation.
@@ -124,9 +125,9 @@ fn main() {
             s.push(',');
         }
         let _ = write!(s, "{{\"t\":{t:.6},\"x\":");
-        push_list(&mut s, (0..n).map(|b| y[BODY_DOF * b]), 6);
+        push_list(&mut s, (0..n).map(|b| body(y, b).position()[0]), 6);
         s.push_str(",\"y\":");
-        push_list(&mut s, (0..n).map(|b| y[BODY_DOF * b + 1]), 6);
+        push_list(&mut s, (0..n).map(|b| body(y, b).position()[1]), 6);
         s.push_str(",\"T\":");
         push_list(&mut s, tensions.0.iter().copied(), 1);
         s.push_str(",\"angle\":");

@@ -9,6 +9,7 @@
 //! cargo run --profile ci --features modes --example orbit_probe -- \
 //!     --ssv parameters/accessory-drive-4.ssv --set solver.method=2 --speed 84 --periods 400 --out FILE.csv
 //! ```
+use belt_drive::model::state::body;
 use belt_drive::modes::{adapter, floquet, params};
 
 fn main() {
@@ -95,19 +96,20 @@ fn main() {
         for b in 0..n {
             if sys.touching(b, &y, &centres) == Some(j4) {
                 cnt += 1;
-                let z = y[7 * b + 6];
+                let z = body(&y, b).creep();
                 zmax = zmax.max(z.abs() / cap);
                 if z.abs() > 0.999 * cap {
                     slide += 1;
                 }
-                let v = y[7 * b + 3].hypot(y[7 * b + 4]);
+                let [vx, vy] = body(&y, b).velocity();
+                let v = vx.hypot(vy);
                 vrel = vrel.max((v - ws[j4].abs() * lin.pulleys[j4].lever.abs()).abs());
             }
         }
         let mut sl = vec![0usize; np];
         for b in 0..n {
             if let Some(j) = sys.touching(b, &y, &centres) {
-                if y[7 * b + 6].abs() > 0.999 * cap {
+                if body(&y, b).creep().abs() > 0.999 * cap {
                     sl[j] += 1;
                 }
             }

@@ -24,7 +24,8 @@ mod ssv;
 
 use belt_drive::drive::Integrator;
 use belt_drive::model::params::Method;
-use belt_drive::model::system::{BeltSystem, Workspace, BODY_DOF};
+use belt_drive::model::state::{bodies_len, body_component, BodyComponent};
+use belt_drive::model::system::{BeltSystem, Workspace};
 use belt_drive::solver::knobs::TUNING;
 use belt_drive::solver::rkf45::Rkf45;
 use belt_drive::solver::step_control::Trial;
@@ -158,7 +159,7 @@ fn contact_changes(sys: &BeltSystem, a: &[f64], b: &[f64]) -> usize {
 }
 
 fn classify(sys: &BeltSystem, comps: &[f64]) -> (Group, usize) {
-    let nb = BODY_DOF * sys.n_bodies();
+    let nb = bodies_len(sys.n_bodies());
     let (i, _) =
         comps[..sys.controlled_dim()]
             .iter()
@@ -171,14 +172,15 @@ fn classify(sys: &BeltSystem, comps: &[f64]) -> (Group, usize) {
                 }
             });
     if i < nb {
-        let g = match i % BODY_DOF {
-            0 | 1 => Group::BodyPosition,
-            2 => Group::BodyAngle,
-            3 | 4 => Group::BodyVelocity,
-            5 => Group::BodySpin,
-            _ => Group::Creep,
+        let (body, c) = body_component(i);
+        let g = match c {
+            BodyComponent::X | BodyComponent::Y => Group::BodyPosition,
+            BodyComponent::Angle => Group::BodyAngle,
+            BodyComponent::Vx | BodyComponent::Vy => Group::BodyVelocity,
+            BodyComponent::Spin => Group::BodySpin,
+            BodyComponent::Creep => Group::Creep,
         };
-        return (g, i / BODY_DOF);
+        return (g, body);
     }
     let e = sys.energy_offset();
     let g = if i < e {

@@ -24,7 +24,8 @@
 use std::f64::consts::TAU;
 
 use belt_drive::model::params::Method;
-use belt_drive::model::system::{Recorder, Workspace, BODY_DOF};
+use belt_drive::model::state::body;
+use belt_drive::model::system::{Recorder, Workspace};
 use belt_drive::{Drive, DriveParams};
 
 #[path = "common/two_to_one.rs"]
@@ -188,9 +189,10 @@ fn main() {
             }
         }
         for &(i, j, nn, f, vt) in &s.contacts {
-            let o = BODY_DOF * i;
+            let bi = body(&y, i);
+            let [bx, by] = bi.position();
             for (m, fr) in frames.iter().enumerate().filter(|(_, fr)| fr.pulley == j) {
-                if let Some(b) = travel(m, centres[j], y[o], y[o + 1]) {
+                if let Some(b) = travel(m, centres[j], bx, by) {
                     // the model's f, z and v_T point along the pulley's
                     // counterclockwise tangent, the belt travels along
                     // fr.sense times it
@@ -198,7 +200,7 @@ fn main() {
                     let c = &mut con[m * nb + b];
                     c[0] += nn;
                     c[1] += sign * f;
-                    c[2] += sign * y[o + 6];
+                    c[2] += sign * bi.creep();
                     c[3] += sign * vt;
                     c[4] += 1.0;
                 }

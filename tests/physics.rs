@@ -4,7 +4,7 @@
 mod common;
 
 use belt_drive::fmu::names;
-use belt_drive::model::system::BODY_DOF;
+use belt_drive::model::state::body_mut;
 use belt_drive::{Drive, DriveParams, FrictionLaw};
 use common::*;
 use std::f64::consts::PI;
@@ -175,8 +175,7 @@ fn frictionless_undamped_conserves_energy() {
     let mut y = d.state().to_vec();
     let n = p.belt.n_bodies;
     for i in 0..n {
-        y[BODY_DOF * i + 4] = 0.5 * (2.0 * PI * i as f64 / n as f64).sin();
-        y[BODY_DOF * i + 3] = 0.2;
+        body_mut(&mut y, i).set_velocity([0.2, 0.5 * (2.0 * PI * i as f64 / n as f64).sin()]);
     }
     let (t, inputs, stats) = (d.time(), *d.inputs(), d.stats());
     let h = d.next_step_size();

@@ -11,6 +11,8 @@
 //!   tensioner arm) with partials, energy and dissipation;
 //! * [`system`]: the drive's equations of motion, eq. 20-24 (`BeltSystem`,
 //!   the right-hand side, the creep reset, the stored energy);
+//! * [`state`]: a body's block of the state vector by name (position,
+//!   angle, velocity, spin, creep);
 //! * [`simd`]: the instruction set detected once, and the dispatch of the
 //!   vector kernels (the only `target_feature` code);
 //! * [`trig`]: branch-free sine, cosine and angle wrap for the vectorised loops.
@@ -20,5 +22,6 @@ pub mod layout;
 pub mod param_id;
 pub mod params;
 pub mod simd;
+pub mod state;
 pub mod system;
 pub mod trig;
