@@ -2,6 +2,8 @@
 //! RKF45 and against the same closed-form laws as tests/physics.rs.
 
 mod common;
+#[path = "../examples/common/ssv.rs"]
+mod ssv;
 
 use belt_drive::model::params::Method;
 use belt_drive::{DriveParams, FrictionLaw};
@@ -211,5 +213,104 @@ fn input_energy_is_the_inputs_work() {
             before = after;
         }
         println!("{method:?}: input energy against the inputs' work, worst {worst:.1e}");
+    }
+}
+
+/// Means of one run over `[t_avg, t_end]` in communication steps of `h`:
+/// each span's tension sampled at the 1 ms points (the same instants for
+/// every `h`, so the sampling of the body-passing ripple is the same in
+/// both runs and only the integration differs), each pulley's mean hub
+/// force x and mean belt torque (the exact means over each communication
+/// step, from the impulse states, averaged over the window).
+fn comm_step_means(p: &DriveParams, h: f64, t_avg: f64, t_end: f64) -> (Vec<f64>, u64) {
+    let mut d = drive(p);
+    let per_ms = (1e-3 / h).round() as usize;
+    let n = (t_end / h).round() as usize;
+    let np = p.pulleys.len();
+    let mut sums = vec![0.0; 3 * np];
+    let (mut samples, mut span) = (0.0, 0.0);
+    for k in 1..=n {
+        let t = k as f64 * h;
+        d.advance(t).expect("runs");
+        if t <= t_avg + 1e-12 {
+            continue;
+        }
+        let o = d.outputs();
+        for j in 0..np {
+            sums[np + j] += o.pulleys[j].mean_hub_force[0] * h;
+            sums[2 * np + j] += o.pulleys[j].mean_belt_torque * h;
+        }
+        span += h;
+        if k % per_ms == 0 {
+            for (j, x) in sums[..np].iter_mut().enumerate() {
+                *x += o.span_tension[j];
+            }
+            samples += 1.0;
+        }
+    }
+    for x in &mut sums[..np] {
+        *x /= samples;
+    }
+    for x in &mut sums[np..] {
+        *x /= span;
+    }
+    (sums, d.stats().steps)
+}
+
+/// The stiff method's mean outputs do not depend on the communication
+/// step (issue 33): 0.1 ms against 1 ms communication steps at relTol 1e-4,
+/// on the FMU's default 5PK drive (means over 0.5-1 s) and on
+/// `parameters/accessory-drive-4.ssv` at idle (four pulleys, 5.9 m/s,
+/// means over 0.6-0.8 s after its 0.5 s run-up). At 0.1 ms nearly every
+/// step is clipped to a communication point (the method's own step is
+/// 0.1-0.3 ms here), so the two runs take different step sequences: span
+/// tensions sampled at the same instants, hub forces and belt torques
+/// (exact means) agree within 0.05 % (the issue's bound; a relTol of 1e-4
+/// leaves global errors of that order in the means). Measured: 5PK spans
+/// 0.002 / 0.026 %, hubs 0.008 %, belt torques 0.02 %; accessory drive
+/// spans 0.010-0.015 %, hubs <= 0.02 %, belt torques <= 0.023 %. RKF45
+/// (its step held by stability at 2-5 us) moves 0.0004 % on the 5PK drive.
+/// Against RKF45 the 0.1 ms run is the closer one (5PK span 2: RKF45
+/// 276.049 N, stiff 276.042 at 0.1 ms, 275.971 at 1 ms): what is left is
+/// the stiff method's own error at relTol 1e-4 on its natural step. (Issue 33 measured 0.3-0.4 %
+/// between 0.02 and 1 ms steps while the method still kept its Jacobian
+/// for two steps; that setting was not re-measured here.)
+#[test]
+fn stiff_means_do_not_depend_on_the_communication_step() {
+    let five_pk = with_method(DriveParams::default(), Method::Rosenbrock, 1e-4);
+    let mut acc4 = ssv::from_ssv("accessory-drive-4.ssv");
+    acc4.solver.method = Method::Rosenbrock;
+    acc4.solver.rel_tol = 1e-4;
+    let cases = [("5PK", five_pk, 0.5, 1.0), ("accessory", acc4, 0.6, 0.8)];
+    for (name, p, t_avg, t_end) in cases {
+        let ((fine, fine_steps), (coarse, coarse_steps)) = std::thread::scope(|s| {
+            let h = s.spawn(|| comm_step_means(&p, 1e-4, t_avg, t_end));
+            let coarse = comm_step_means(&p, 1e-3, t_avg, t_end);
+            (h.join().expect("0.1 ms run"), coarse)
+        });
+        let np = p.pulleys.len();
+        println!("{name}: {fine_steps} steps at 0.1 ms, {coarse_steps} at 1 ms");
+        for (i, (a, b)) in coarse.iter().zip(&fine).enumerate() {
+            let what = ["span tension", "mean hub force x", "mean belt torque"][i / np];
+            let dev = (a - b) / b.abs().max(1e-9);
+            println!(
+                "  {what} {}: 1 ms {a:.5}, 0.1 ms {b:.5} ({:+.4} %)",
+                i % np + 1,
+                100.0 * dev
+            );
+            // hub forces and torques that are zero by symmetry or idling
+            // (an unloaded idler) have no relative figure
+            let scale = match i / np {
+                0 => b.abs(),
+                1 => fine[np..2 * np].iter().fold(0.0_f64, |m, x| m.max(x.abs())),
+                _ => fine[2 * np..].iter().fold(0.0_f64, |m, x| m.max(x.abs())),
+            };
+            assert!(
+                (a - b).abs() <= 5e-4 * scale,
+                "{name}: {what} {} moves {:+.4} % with the communication step",
+                i % np + 1,
+                100.0 * dev
+            );
+        }
     }
 }
