@@ -1,6 +1,7 @@
 //! A simulated belt drive: parameters, mounted layout, state, integrator.
 //! This is the whole interface the FMI adapter uses.
 
+use crate::interval::{IntervalAccumulator, IntervalOutputs, INTERVAL_DATA};
 use crate::model::elements::contact::{smoothstep, AUTO_P_MAX_PER_PENETRATION};
 use crate::model::elements::friction::Law;
 use crate::model::layout::Layout;
@@ -14,7 +15,7 @@ use crate::solver::jacobian::Jacobian;
 use crate::solver::knobs::TUNING;
 use crate::solver::rkf45::Rkf45;
 use crate::solver::rosenbrock::{EnergyBalance, Rosenbrock, StiffSystem};
-use crate::solver::step_control::{OdeSystem, Stats, StepControl, StepFailure};
+use crate::solver::step_control::{OdeSystem, Stats, StepControl, StepFailure, Trial};
 
 impl OdeSystem for BeltSystem {
     type Workspace = Workspace;
@@ -138,6 +139,8 @@ impl Integrator {
         }
     }
 
+    /// Integrates to `t_end`; `step_start` is told the time and state at the
+    /// start of every accepted step (the end of the one before).
     fn advance(
         &mut self,
         sys: &BeltSystem,
@@ -145,10 +148,20 @@ impl Integrator {
         t: &mut f64,
         y: &mut [f64],
         t_end: f64,
+        step_start: &mut dyn FnMut(f64, &[f64]),
     ) -> Result<(), StepFailure> {
+        // a trial is accepted when its error norm is at most 1
         match self {
-            Self::Rkf45(i) => i.advance(sys, ws, t, y, t_end),
-            Self::Rosenbrock(i) => i.advance(sys, ws, t, y, t_end),
+            Self::Rkf45(i) => i.advance_observed(sys, ws, t, y, t_end, &mut |_, tr: Trial| {
+                if tr.err <= 1.0 {
+                    step_start(tr.t, tr.y);
+                }
+            }),
+            Self::Rosenbrock(i) => i.advance_observed(sys, ws, t, y, t_end, &mut |_, tr: Trial| {
+                if tr.err <= 1.0 {
+                    step_start(tr.t, tr.y);
+                }
+            }),
         }
     }
 
@@ -316,6 +329,8 @@ pub struct Outputs {
     pub kinetic_energy: f64,
     /// Elastic (SDEs, contacts, creep springs) and gravitational energy [J].
     pub potential_energy: f64,
+    /// Means and extrema over the last communication step (`interval`).
+    pub interval: IntervalOutputs,
 }
 
 /// Collects the outputs during one recorded force evaluation.
@@ -512,6 +527,8 @@ pub struct Drive {
     warnings: Vec<Message>,
     /// The probe body (0-based), chosen by `auto_probe` for `PROBE_AUTO`.
     probe: usize,
+    /// Means and extrema over the last call of [`Drive::advance`].
+    interval: IntervalAccumulator,
 }
 
 /// The probe body [`PROBE_AUTO`] stands for: the body whose centre lies
@@ -631,6 +648,7 @@ impl Drive {
             params.solver.max_steps,
         );
         mount_arms(&mut drive.sys, &mut drive.ws, drive.t, &drive.y);
+        drive.interval.begin(&drive.sys, drive.t, &drive.y);
         Ok(drive)
     }
 
@@ -658,6 +676,11 @@ impl Drive {
         } else {
             params.probe_body
         };
+        let np = params.pulleys.len();
+        let mids: Vec<Option<[f64; 2]>> = (0..np)
+            .map(|k| layout.span_between(k, (k + 1) % np).map(|s| s.midpoint()))
+            .collect();
+        let interval = IntervalAccumulator::new(&mids);
         let mut drive = Self {
             params: params.clone(),
             layout,
@@ -674,7 +697,9 @@ impl Drive {
             tensions: vec![0.0; params.belt.n_bodies],
             warnings,
             probe,
+            interval,
         };
+        drive.interval.begin(&drive.sys, t0, &drive.y);
         drive.set_inputs(Inputs {
             t0,
             ..Inputs::default()
@@ -779,13 +804,23 @@ impl Drive {
             *w = self.sys.pulley_speed(j, self.t, &self.y);
         }
         let start = self.t;
-        let result =
-            self.integrator
-                .advance(&self.sys, &mut self.ws, &mut self.t, &mut self.y, t_end);
+        let before = self.interval.clone();
+        self.interval.begin(&self.sys, self.t, &self.y);
+        let (sys, interval) = (&self.sys, &mut self.interval);
+        let result = self.integrator.advance(
+            sys,
+            &mut self.ws,
+            &mut self.t,
+            &mut self.y,
+            t_end,
+            &mut |t, y| interval.step_end(sys, t, y),
+        );
         if result.is_err() {
             self.y[q..].copy_from_slice(kept);
+            self.interval = before;
             return result;
         }
+        self.interval.step_end(&self.sys, self.t, &self.y);
         self.window.start = start;
         for (j, w) in omega.iter().enumerate().take(self.sys.np) {
             self.window.omega_change[j] = self.sys.pulley_speed(j, self.t, &self.y) - w;
@@ -894,6 +929,7 @@ impl Drive {
         let (kin, pot) = self.sys.energies(&self.y);
         out.kinetic_energy = kin;
         out.potential_energy = pot;
+        out.interval = self.interval.outputs();
         out
     }
 
@@ -979,7 +1015,9 @@ impl Drive {
 
     /// Integrator data for a saved state, see [`restore`](Self::restore).
     pub fn integrator_data(&self) -> Vec<f64> {
-        self.integrator.save(&self.sys, &self.point())
+        let mut out = self.integrator.save(&self.sys, &self.point());
+        self.interval.save(&mut out);
+        out
     }
 
     /// Replaces time, state, window, inputs and integrator data (restoring
@@ -997,6 +1035,13 @@ impl Drive {
         integrator_data: &[f64],
     ) -> bool {
         if y.len() != self.y.len() || window.start.is_nan() || window.start > t {
+            return false;
+        }
+        let Some(split) = integrator_data.len().checked_sub(INTERVAL_DATA) else {
+            return false;
+        };
+        let (integrator_data, interval) = integrator_data.split_at(split);
+        if !self.interval.load(interval, self.sys.n) {
             return false;
         }
         self.t = t;

@@ -19,6 +19,7 @@ pub mod drawing;
 pub mod drive;
 pub mod fmi;
 pub mod fmu;
+pub mod interval;
 pub mod model;
 #[cfg(feature = "modes")]
 pub mod modes;

@@ -395,5 +395,21 @@ pub static REGISTRY: &[Item] = &[
         .min("0")
         .id("BeltTransverseDamping", "belt transverse damping")
         .about("Damping of the belt's motion across its length (the spans' vibration: air and the span ends), per unit mass: each body's centre velocity across its axis is damped by its mass times this rate; a span mode of frequency f gets the damping ratio value/(4 pi f) (the default: 2 % at 100 Hz); no loss in steady running; 0 = none (the paper's model)")),
+    Item::Comment("interval outputs: over the last communication step, from the integrator's steps"),
+    Item::Array(output("span[#].meanTension", Vr::Array(1810), Ty::Real("Force"))
+        .about("Mean tension of span {j} (as span[{j}].tension reads it) over the last communication step: the trapezoidal rule over the integrator's steps (its value at the current time before the first step)")),
+    Item::Array(output("span[#].minTension", Vr::Array(1820), Ty::Real("Force"))
+        .about("Smallest tension of span {j} over the last communication step, at the ends of the integrator's steps")),
+    Item::Array(output("span[#].maxTension", Vr::Array(1830), Ty::Real("Force"))
+        .about("Largest tension of span {j} over the last communication step, at the ends of the integrator's steps")),
+    Item::One(output("belt.intervalMinTension", Vr::Fixed(1801), Ty::Real("Force"))
+        .about("Smallest SDE tension anywhere in the belt over the last communication step, at the ends of the integrator's steps (belt.minTension is the instant's)")),
+    Item::Slots(
+        None,
+        &[
+        output("pulley[#].arm.meanSpringTorque", Vr::PulleyOutput(25), Ty::Real("Torque"))
+            .about("Mean torque of the tensioner spring on the arm of pulley {j} over the last communication step (0 without an arm)"),
+        ],
+    ),
 
 ];
