@@ -92,11 +92,11 @@ pub fn role(params: &DriveParams, layout: &Layout, j: usize) -> &'static str {
     let omega = side * loop_speed(params, layout) / p.radius;
     if p.speed_driven || p.torque_ramp * omega > 0.0 {
         "driver"
-    } else if p.tensioner {
+    } else if p.arm.is_some() {
         "tensioner"
     } else if p.back_side {
         "back idler"
-    } else if p.decoupler {
+    } else if p.decoupler.is_some() {
         "decoupler"
     } else if p.torque_ramp != 0.0 || p.load_damping != 0.0 {
         "driven"
@@ -165,7 +165,7 @@ pub fn static_tensions(params: &DriveParams, layout: &Layout) -> Vec<f64> {
         };
         t[(m + 1) % n] = prev + step;
     }
-    let level = match params.pulleys.iter().position(|p| p.tensioner) {
+    let level = match params.pulleys.iter().position(|p| p.arm.is_some()) {
         Some(a) => {
             let m = layout
                 .wraps
@@ -273,8 +273,8 @@ impl<'a> Sketch<'a> {
                 }
             };
             grow([p.x, p.y], p.radius);
-            if p.tensioner {
-                grow(p.arm_pivot, 0.0);
+            if let Some(arm) = &p.arm {
+                grow(arm.pivot, 0.0);
             }
         }
         let size = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(1e-6);
@@ -334,10 +334,10 @@ impl<'a> Sketch<'a> {
     fn arms(&mut self) {
         let w = &mut self.svg;
         for (j, p) in self.params.pulleys.iter().enumerate() {
-            if !p.tensioner {
+            let Some(arm) = &p.arm else {
                 continue;
-            }
-            let a = self.view.p(p.arm_pivot);
+            };
+            let a = self.view.p(arm.pivot);
             let b = self.view.p([p.x, p.y]);
             let _ = writeln!(
                 w,

@@ -1,6 +1,6 @@
 //! The hot path (right-hand side and integrator steps) allocates nothing.
 
-use belt_drive::model::params::Method;
+use belt_drive::model::params::{ArmStops, DecouplerParams, Method, TensionerArm};
 use belt_drive::model::system::{NoRecord, Workspace};
 use belt_drive::{Drive, DriveParams};
 use std::alloc::{GlobalAlloc, Layout, System};
@@ -44,11 +44,21 @@ fn rhs_and_steps_do_not_allocate() {
         p.contact.points = points;
         if fead {
             p.pulleys[0].groove_angle = 0.7;
-            p.pulleys[1].decoupler = true;
-            p.pulleys[1].decoupler_clockwise = true;
-            p.pulleys[1].tensioner = true;
-            p.pulleys[1].arm_pivot = [0.515, 0.08];
-            p.pulleys[1].arm_friction = 0.5;
+            p.pulleys[1].decoupler = Some(DecouplerParams {
+                clockwise: true,
+                ..Default::default()
+            });
+            p.pulleys[1].arm = Some(TensionerArm {
+                pivot: [0.515, 0.08],
+                friction: 0.5,
+                // on its upper stop from the start: the stop's law runs too
+                stops: Some(ArmStops {
+                    min_angle: -0.1,
+                    max_angle: 0.0,
+                    ..Default::default()
+                }),
+                ..Default::default()
+            });
         }
         let mut d = Drive::new(&p, 0.0).unwrap();
         let y = d.state().to_vec();

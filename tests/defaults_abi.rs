@@ -81,16 +81,16 @@ fn sixty_body_drive_initialises_with_the_default_probe() {
 }
 
 /// The counts of pulleys and bodies outside their declared ranges (the
-/// model description's 2..=6 and 3..=2000), negative ones included, are
+/// model description's 2..=8 and 3..=2000), negative ones included, are
 /// refused at fmi2ExitInitializationMode by the core's one check of the
 /// counts, naming the variable, its range and the value as set.
 #[test]
 fn pulley_and_body_counts_are_refused_by_name() {
     let fmi = Fmi::load();
     for (name, value, range) in [
-        ("nPulleys", 1, "in 2..=6"),
-        ("nPulleys", 7, "in 2..=6"),
-        ("nPulleys", -1, "in 2..=6"),
+        ("nPulleys", 1, "in 2..=8"),
+        ("nPulleys", 9, "in 2..=8"),
+        ("nPulleys", -1, "in 2..=8"),
         ("belt.nBodies", 2, "in 3..=2000"),
         ("belt.nBodies", 2001, "in 3..=2000"),
         ("belt.nBodies", -40, "in 3..=2000"),

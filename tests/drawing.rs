@@ -196,7 +196,7 @@ fn drawing_shows_the_layouts_spans_and_wraps_on_every_parameter_set() {
         let arms = elements(svg, "g", "arm");
         assert_eq!(
             arms.len(),
-            p.pulleys.iter().filter(|q| q.tensioner).count(),
+            p.pulleys.iter().filter(|q| q.arm.is_some()).count(),
             "{file}: arms"
         );
     }

@@ -6,6 +6,7 @@
 
 mod common;
 
+use belt_drive::model::params::DecouplerParams;
 use belt_drive::model::system::BODY_DOF;
 use belt_drive::{Drive, DriveParams, FrictionLaw};
 use common::*;
@@ -238,9 +239,11 @@ fn decel_drive(decoupler: bool, method: belt_drive::model::params::Method) -> Dr
     p = speed_driven(p, -80.0, 0.01);
     p.pulleys[0].ramp_time = 0.2;
     p.pulleys[1].inertia = if decoupler { 1e-4 } else { 1e-4 + 3e-3 };
-    p.pulleys[1].decoupler = decoupler;
-    p.pulleys[1].decoupler_clockwise = true;
-    p.pulleys[1].rotor_inertia = 3e-3;
+    p.pulleys[1].decoupler = decoupler.then_some(DecouplerParams {
+        clockwise: true,
+        rotor_inertia: 3e-3,
+        ..Default::default()
+    });
     p.solver.method = method;
     p
 }

@@ -908,9 +908,11 @@ fn ssv(name: &str, sets: &[&str]) -> DriveParams {
 #[test]
 fn arm_mode_is_the_closed_forms() {
     let mut p = common::arm::free_loop();
-    p.pulleys[2].arm_damping = 0.0;
+    let arm = p.pulleys[2].arm.as_mut().unwrap();
+    arm.damping = 0.0;
+    let inertia = arm.inertia;
     let k_alpha = common::arm::arm_stiffness(&p, 2);
-    let f = (k_alpha / p.pulleys[2].arm_inertia).sqrt() / std::f64::consts::TAU;
+    let f = (k_alpha / inertia).sqrt() / std::f64::consts::TAU;
     let (_, m) = modes_at_rest(&p);
     for x in m.modes.iter().take(8) {
         eprintln!(

@@ -21,7 +21,7 @@
 
 use belt_drive::model::elements::friction::Law;
 use belt_drive::model::elements::tensioner::FRICTION_RATE;
-use belt_drive::model::params::{PulleyParams, MAX_PULLEYS};
+use belt_drive::model::params::{PulleyParams, TensionerArm, MAX_PULLEYS};
 use belt_drive::model::simd::Isa;
 use belt_drive::model::system::{BeltSystem, Inputs, Recorder, Relaxation, Workspace, BODY_DOF};
 use belt_drive::{Drive, DriveParams, FrictionLaw};
@@ -802,12 +802,14 @@ fn drives() -> Vec<(&'static str, DriveParams)> {
     let mut arms = accessory.clone();
     for (j, pivot) in [(1, [0.15, 0.17]), (3, [0.38, -0.05])] {
         let q = &mut arms.pulleys[j];
-        q.tensioner = true;
-        q.arm_pivot = pivot;
-        q.arm_inertia = 1.5e-3;
-        q.arm_stiffness = 35.0;
-        q.arm_damping = 0.05;
-        q.arm_friction = 2.0;
+        q.arm = Some(TensionerArm {
+            pivot,
+            inertia: 1.5e-3,
+            stiffness: 35.0,
+            damping: 0.05,
+            friction: 2.0,
+            stops: None,
+        });
     }
     let mut s3 = DriveParams::kubas_section3();
     s3.pulleys[0].ramp_time = 0.002;

@@ -16,32 +16,29 @@ pub mod variables;
 use crate::drive::Outputs;
 use crate::fmi::{FmuModel, ModelDescription, StepError};
 use crate::model::param_id::Param;
-use crate::model::params::{self, PulleyParams, MAX_PULLEYS, PROBE_AUTO};
+use crate::model::params::{self, MAX_PULLEYS, PROBE_AUTO};
 use crate::{Drive, DriveParams, Inputs};
-use variables::{Start, Var, VarInfo, MODEL_DESCRIPTION, VARIABLES};
+use std::collections::HashMap;
+use variables::{Causality, Var, VarInfo, VarType, MODEL_DESCRIPTION, VARIABLES};
 
-/// Integer parameters as the user set them; checked against the ranges of
-/// the model description when the drive is built, so the message can name
-/// the variable and its range.
-#[derive(Clone, Debug, Default, PartialEq)]
-struct IntegerParams {
-    n_pulleys: i32,
-    n_bodies: i32,
-    friction_law: i32,
-    zone_start: i32,
-    zone_bodies: i32,
-    probe_body: i32,
-    method: i32,
-    max_steps: i32,
-    contact_points: i32,
+/// "n" before a type name that starts with a vowel.
+fn article(ty: VarType) -> &'static str {
+    match ty {
+        VarType::Integer => "n Integer",
+        VarType::Real => " Real",
+        VarType::Boolean => " Boolean",
+        _ => " String",
+    }
 }
 
 #[derive(Clone, Debug)]
 /// The FMU's model: parameters and inputs as set through FMI, and the drive built from them.
 pub struct BeltDrive {
-    /// Every parameter; `params.pulleys` always holds all six slots.
-    params: DriveParams,
-    ints: IntegerParams,
+    /// Every parameter's value as set, by the core's id (an Integer as a
+    /// number, a Boolean 0 or 1), in every pulley slot: the core reads them
+    /// when the drive is built (`DriveParams::from_values`), each element
+    /// its own.
+    values: HashMap<Param, f64>,
     inputs: Inputs,
     start_time: f64,
     drive: Option<Drive>,
@@ -67,69 +64,9 @@ fn info(var: Var) -> &'static VarInfo {
         .expect("every Var is a variable of the table")
 }
 
-/// The field behind a Real parameter (every pulley slot, used or not).
-fn real_slot<'a>(p: &'a mut DriveParams, v: &VarInfo) -> Option<&'a mut f64> {
-    let j = v.index;
-    Some(match v.var {
-        Var::BeltPreload => &mut p.belt.preload,
-        Var::BeltNaturalLength => &mut p.belt.natural_length,
-        Var::BeltEA => &mut p.belt.ea,
-        Var::BeltAxialDamping => &mut p.belt.axial_damping,
-        Var::BeltShearDampingFactor => &mut p.belt.shear_damping_factor,
-        Var::BeltBendingStiffness => &mut p.belt.bending_stiffness,
-        Var::BeltBendingDamping => &mut p.belt.bending_damping,
-        Var::BeltTransverseDamping => &mut p.belt.transverse_damping,
-        Var::BeltMassPerLength => &mut p.belt.mass_per_length,
-        Var::Gravity => &mut p.gravity,
-        Var::ContactC1 => &mut p.contact.c1,
-        Var::ContactC2 => &mut p.contact.c2,
-        Var::ContactDamping => &mut p.contact.damping,
-        Var::ContactPMax => &mut p.contact.p_max,
-        Var::FrictionDv => &mut p.friction.dv,
-        Var::FrictionCreepMax => &mut p.friction.creep_max,
-        Var::FrictionCreepDampingTime => &mut p.friction.creep_damping_time,
-        Var::FrictionZoneFactor => &mut p.friction.zone_factor,
-        Var::SolverRelTol => &mut p.solver.rel_tol,
-        Var::SolverAbsTol => &mut p.solver.abs_tol,
-        Var::SolverInitialStep => &mut p.solver.initial_step,
-        Var::PulleyX => &mut p.pulleys[j].x,
-        Var::PulleyY => &mut p.pulleys[j].y,
-        Var::PulleyRadius => &mut p.pulleys[j].radius,
-        Var::PulleyInertia => &mut p.pulleys[j].inertia,
-        Var::PulleyMuStatic => &mut p.pulleys[j].mu_static,
-        Var::PulleyMuKinetic => &mut p.pulleys[j].mu_kinetic,
-        Var::PulleyLoadDamping => &mut p.pulleys[j].load_damping,
-        Var::PulleyTorqueRamp => &mut p.pulleys[j].torque_ramp,
-        Var::PulleyOmegaRamp => &mut p.pulleys[j].omega_ramp,
-        Var::PulleyRampTime => &mut p.pulleys[j].ramp_time,
-        Var::PulleyGrooveAngle => &mut p.pulleys[j].groove_angle,
-        Var::PulleyDecouplerStiffness => &mut p.pulleys[j].decoupler_stiffness,
-        Var::PulleyDecouplerDamping => &mut p.pulleys[j].decoupler_damping,
-        Var::PulleyRotorInertia => &mut p.pulleys[j].rotor_inertia,
-        Var::PulleyArmPivotX => &mut p.pulleys[j].arm_pivot[0],
-        Var::PulleyArmPivotY => &mut p.pulleys[j].arm_pivot[1],
-        Var::PulleyArmInertia => &mut p.pulleys[j].arm_inertia,
-        Var::PulleyArmStiffness => &mut p.pulleys[j].arm_stiffness,
-        Var::PulleyArmDamping => &mut p.pulleys[j].arm_damping,
-        Var::PulleyArmFriction => &mut p.pulleys[j].arm_friction,
-        _ => return None,
-    })
-}
-
-/// The field behind an Integer parameter.
-fn int_slot<'a>(i: &'a mut IntegerParams, v: &VarInfo) -> Option<&'a mut i32> {
-    Some(match v.var {
-        Var::NPulleys => &mut i.n_pulleys,
-        Var::BeltNBodies => &mut i.n_bodies,
-        Var::FrictionLaw => &mut i.friction_law,
-        Var::FrictionZoneStart => &mut i.zone_start,
-        Var::FrictionZoneBodies => &mut i.zone_bodies,
-        Var::ProbeBody => &mut i.probe_body,
-        Var::SolverMethod => &mut i.method,
-        Var::SolverMaxSteps => &mut i.max_steps,
-        Var::ContactPoints => &mut i.contact_points,
-        _ => return None,
-    })
+/// The parameter id behind a variable, if it is a parameter.
+fn param(v: &VarInfo) -> Option<Param> {
+    names::param_of(v.var, v.index)
 }
 
 impl BeltDrive {
@@ -137,8 +74,6 @@ impl BeltDrive {
     /// checked by the core (`DriveParams::validate`); public for tests that
     /// compare parameter sets with `DriveParams`.
     pub fn drive_params(&self) -> Result<DriveParams, String> {
-        let i = &self.ints;
-        let mut p = self.params.clone();
         // The Integer parameters are converted by the core, which checks
         // their declared ranges: the counts (`nPulleys`, `belt.nBodies`,
         // `friction.zoneBodies`, `solver.maxSteps`, `contact.points`) by
@@ -147,36 +82,71 @@ impl BeltDrive {
         // (`friction.zoneStart`, `probe.body`, 0 = chosen automatically) by
         // `params::body_number`. The adapter decodes only the FMI codes
         // (`friction.law`, `solver.method`), with the codes listed once
-        // (the registry, `modelDescription/src/registry/table.rs`) and explained by the variable's description.
-        // The Real parameters go to the core as they are:
+        // (the registry, `modelDescription/src/registry/table.rs`) and
+        // explained by the variable's description. The Real and Boolean
+        // parameters go to the core as they are (`DriveParams::from_values`):
         // `DriveParams::validate` checks their declared ranges (the same
         // table, `Param::declared`), for FMU and library users alike.
+        let v = |p: Param| self.value(p);
+        let int = |p: Param| v(p) as i32;
         let core = |e| names::render_error(&e);
-        let count = |p, n: i32| params::count(p, n.into()).map_err(core);
-        let body = |p, n: i32| params::body_number(p, n.into()).map_err(core);
-        let used = count(Param::PulleyCount, i.n_pulleys)?;
-        let n_bodies = count(Param::BeltBodies, i.n_bodies)?;
-        let zone_bodies = count(Param::FrictionZoneBodies, i.zone_bodies)?;
-        let max_steps = count(Param::SolverMaxSteps, i.max_steps)?;
-        let contact_points = count(Param::ContactPoints, i.contact_points)?;
-        // The unused pulley slots keep their declared ranges too (importers
-        // are shown them for every slot).
-        for (j, q) in p.pulleys.iter().enumerate().skip(used) {
-            q.validate_ranges(j).map_err(core)?;
-        }
-        p.pulleys.truncate(used);
+        let count = |p| params::count(p, int(p).into()).map_err(core);
+        let body = |p| params::body_number(p, int(p).into()).map_err(core);
+        let used = count(Param::PulleyCount)?;
+        let n_bodies = count(Param::BeltBodies)?;
+        let zone_bodies = count(Param::FrictionZoneBodies)?;
+        let max_steps = count(Param::SolverMaxSteps)?;
+        let contact_points = count(Param::ContactPoints)?;
+        let mut p = DriveParams::from_values(&v, used);
         p.belt.n_bodies = n_bodies;
-        p.friction.law = names::friction_law(i.friction_law)
-            .ok_or_else(|| no_code(Var::FrictionLaw, i.friction_law))?;
-        p.friction.zone_start = body(Param::FrictionZoneStart, i.zone_start)?;
+        let law = int(Param::FrictionLaw);
+        p.friction.law = names::friction_law(law).ok_or_else(|| no_code(Var::FrictionLaw, law))?;
+        p.friction.zone_start = body(Param::FrictionZoneStart)?;
         p.friction.zone_bodies = zone_bodies;
-        p.probe_body = body(Param::ProbeBody, i.probe_body)?;
+        p.probe_body = body(Param::ProbeBody)?;
+        let method = int(Param::SolverMethod);
         p.solver.method =
-            names::method(i.method).ok_or_else(|| no_code(Var::SolverMethod, i.method))?;
+            names::method(method).ok_or_else(|| no_code(Var::SolverMethod, method))?;
         p.solver.max_steps = max_steps as u64;
         p.contact.points = contact_points;
-        p.validate().map_err(|e| names::render_error(&e))?;
+        p.validate().map_err(core)?;
+        // Every Real parameter keeps its declared range in every slot, used
+        // or not, and whether its hardware (decoupler, arm, stops) is set or
+        // not: importers are shown the ranges of them all.
+        for var in VARIABLES
+            .iter()
+            .filter(|x| x.causality == Causality::Parameter && x.ty == VarType::Real)
+        {
+            if let Some(q) = param(var) {
+                params::declared(q, v(q)).map_err(core)?;
+            }
+        }
         Ok(p)
+    }
+
+    /// A parameter's value as set (its start value until then).
+    fn value(&self, p: Param) -> f64 {
+        self.values.get(&p).copied().unwrap_or_else(|| p.start())
+    }
+
+    /// Sets the parameter behind `v`, if it is one of type `ty`.
+    fn set_param(&mut self, v: &VarInfo, ty: VarType, value: f64) -> Result<(), String> {
+        match param(v) {
+            Some(p) if v.ty == ty => {
+                self.values.insert(p, value);
+                self.invalidate();
+                Ok(())
+            }
+            _ => Err(format!("{} is not a{} parameter", v.name, article(ty))),
+        }
+    }
+
+    /// The parameter behind `v`, if it is one of type `ty`.
+    fn get_param(&self, v: &VarInfo, ty: VarType) -> Result<f64, String> {
+        match param(v) {
+            Some(p) if v.ty == ty => Ok(self.value(p)),
+            _ => Err(format!("{} is not a{} variable", v.name, article(ty))),
+        }
     }
 
     fn ensure_drive(&mut self) -> Result<&mut Drive, String> {
@@ -210,26 +180,6 @@ impl BeltDrive {
             d.set_inputs(self.inputs);
         }
         self.outputs = None;
-    }
-
-    fn real_param(&mut self, v: &VarInfo) -> Option<&mut f64> {
-        real_slot(&mut self.params, v)
-    }
-
-    fn int_param(&mut self, v: &VarInfo) -> Option<&mut i32> {
-        int_slot(&mut self.ints, v)
-    }
-
-    fn bool_param(&mut self, v: &VarInfo) -> Option<&mut bool> {
-        let p = &mut self.params.pulleys[v.index.min(MAX_PULLEYS - 1)];
-        Some(match v.var {
-            Var::PulleySpeedDriven => &mut p.speed_driven,
-            Var::PulleyBackSide => &mut p.back_side,
-            Var::PulleyDecoupler => &mut p.decoupler,
-            Var::PulleyDecouplerClockwise => &mut p.decoupler_clockwise,
-            Var::PulleyTensioner => &mut p.tensioner,
-            _ => return None,
-        })
     }
 
     fn output(&mut self, v: &VarInfo) -> Result<f64, String> {
@@ -319,39 +269,20 @@ impl FmuModel for BeltDrive {
     }
 
     fn new() -> Self {
-        // the core's defaults are the model description's start values
-        // (generated from it), in every pulley slot
-        let params = DriveParams {
-            pulleys: (0..MAX_PULLEYS).map(PulleyParams::start).collect(),
-            ..DriveParams::default()
-        };
-        let mut model = Self {
-            params,
-            ints: IntegerParams::default(),
+        // the model description's start values (generated from it), in
+        // every pulley slot; the core's defaults are the same
+        Self {
+            values: Param::all(MAX_PULLEYS).map(|p| (p, p.start())).collect(),
             inputs: Inputs::default(),
             start_time: 0.0,
             drive: None,
             outputs: None,
-        };
-        // The Integer parameters' start values as the adapter holds them
-        // (codes, 1-based indices), and the rest once more from the same
-        // table (the Real and Boolean ones are already the core's defaults,
-        // `start_values_are_the_core_defaults`).
-        for v in VARIABLES {
-            let _ = match v.start {
-                Start::Real(x) => model.set_real(v, x),
-                Start::Integer(x) => model.set_integer(v, x),
-                Start::Boolean(x) => model.set_boolean(v, x),
-                _ => Ok(()),
-            };
         }
-        model.invalidate();
-        model
     }
 
     fn get_real(&mut self, v: &VarInfo) -> Result<f64, String> {
-        if let Some(x) = self.real_param(v) {
-            return Ok(*x);
+        if let Some(p) = param(v) {
+            return Ok(self.value(p));
         }
         match v.var {
             Var::PulleyTorque => Ok(self.inputs.torque[v.index]),
@@ -374,50 +305,31 @@ impl FmuModel for BeltDrive {
                 self.inputs_changed();
                 Ok(())
             }
-            _ => {
-                let slot = self
-                    .real_param(v)
-                    .ok_or_else(|| format!("{} cannot be set", v.name))?;
-                *slot = value;
-                self.invalidate();
-                Ok(())
-            }
+            _ => self
+                .set_param(v, VarType::Real, value)
+                .map_err(|_| format!("{} cannot be set", v.name)),
         }
     }
 
     fn get_integer(&mut self, v: &VarInfo) -> Result<i32, String> {
-        self.int_param(v)
-            .map(|x| *x)
-            .ok_or_else(|| format!("{} is not an Integer variable", v.name))
+        self.get_param(v, VarType::Integer).map(|x| x as i32)
     }
 
     fn set_integer(&mut self, v: &VarInfo, value: i32) -> Result<(), String> {
-        let slot = self
-            .int_param(v)
-            .ok_or_else(|| format!("{} is not an Integer parameter", v.name))?;
-        *slot = value;
-        self.invalidate();
-        Ok(())
+        self.set_param(v, VarType::Integer, value.into())
     }
 
     fn get_boolean(&mut self, v: &VarInfo) -> Result<bool, String> {
-        self.bool_param(v)
-            .map(|x| *x)
-            .ok_or_else(|| format!("{} is not a Boolean variable", v.name))
+        self.get_param(v, VarType::Boolean).map(|x| x != 0.0)
     }
 
     fn set_boolean(&mut self, v: &VarInfo, value: bool) -> Result<(), String> {
-        let slot = self
-            .bool_param(v)
-            .ok_or_else(|| format!("{} is not a Boolean parameter", v.name))?;
-        *slot = value;
-        self.invalidate();
-        Ok(())
+        self.set_param(v, VarType::Boolean, f64::from(u8::from(value)))
     }
 
     fn setup_experiment(&mut self, tolerance: Option<f64>, start_time: f64) {
         if let Some(tol) = tolerance {
-            self.params.solver.rel_tol = tol;
+            self.values.insert(Param::SolverRelTol, tol);
         }
         self.start_time = start_time;
         self.invalidate();
@@ -518,9 +430,9 @@ impl FmuModel for BeltDrive {
 
 #[cfg(test)]
 mod tests {
-    use super::variables::{by_name, Causality, VarType};
+    use super::variables::{by_name, Start};
     use super::*;
-    use crate::model::params::MAX_BODIES;
+    use crate::model::params::{PulleyParams, MAX_BODIES};
 
     /// The ranges the model description shows importers are the core's.
     #[test]
@@ -557,7 +469,8 @@ mod tests {
     fn start_values_are_the_core_defaults() {
         let m = BeltDrive::new();
         for j in 0..MAX_PULLEYS {
-            assert_eq!(m.params.pulleys[j], PulleyParams::start(j), "slot {j}");
+            let slot = PulleyParams::from_values(j, &|p: Param| m.value(p));
+            assert_eq!(slot, PulleyParams::start(j), "slot {j}");
         }
         let mut expected = DriveParams::default();
         expected.solver.max_steps = 100_000;
@@ -595,7 +508,7 @@ mod tests {
             m.drive_params().unwrap_err()
         };
         for (var, value, message) in [
-            (Var::NPulleys, 7, "nPulleys must be in 2..=6 (got 7)"),
+            (Var::NPulleys, 9, "nPulleys must be in 2..=8 (got 9)"),
             (
                 Var::FrictionZoneBodies,
                 -1,

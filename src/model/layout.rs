@@ -319,7 +319,7 @@ pub fn installed(params: &DriveParams) -> Result<std::borrow::Cow<'_, DriveParam
     }
     // With an arm the arm's angle is a second unknown, which needs the
     // spring's free angle given; today the spring follows from the preload.
-    if let Some(j) = params.pulleys.iter().position(|p| p.tensioner) {
+    if let Some(j) = params.pulleys.iter().position(|p| p.arm.is_some()) {
         return Err(param_error(
             Param::BeltNaturalLength,
             msg![

@@ -6,8 +6,10 @@
 //! discrete spring-damper elements (SDEs) with the body length l, so a finer
 //! mesh models the same belt. See `docs/model.md`, "Parameters".
 
-use crate::model::elements::groove::MIN_GROOVE_ANGLE;
-use crate::model::param_id::{msg, Message, Param, Part, Plain, Spelling};
+pub use super::elements::decoupler::DecouplerParams;
+use super::elements::groove::MIN_GROOVE_ANGLE;
+pub use super::elements::tensioner::{ArmStops, TensionerArm};
+use super::param_id::{msg, Message, Param, Part, Plain, Spelling};
 
 /// Number of pulley slots: the largest pulley count the model description
 /// declares.
@@ -68,34 +70,14 @@ pub struct PulleyParams {
     /// ribs carry friction with mu / sin(beta); the belt's back on a
     /// back-side idler stays flat (`elements::groove`).
     pub groove_angle: f64,
-    /// A one-way decoupler sits between the hub (which the belt drives) and
-    /// a rotor; the load torque, input torque and load damping act on the
-    /// rotor (`elements::decoupler`).
-    pub decoupler: bool,
-    /// Decoupler spring [N m/rad] and damper [N m s/rad] (> 0).
-    pub decoupler_stiffness: f64,
-    /// Decoupler damper [N m s/rad] (> 0).
-    pub decoupler_damping: f64,
-    /// The clutch drives the rotor clockwise (negative omega) instead of
-    /// counterclockwise.
-    pub decoupler_clockwise: bool,
-    /// Rotor moment of inertia [kg m^2].
-    pub rotor_inertia: f64,
-    /// The pulley sits on an automatic tensioner arm pivoting about
-    /// `arm_pivot` instead of on a fixed centre; `x`, `y` is its mounted
-    /// centre (`elements::tensioner`).
-    pub tensioner: bool,
-    /// Pivot of the tensioner arm [m].
-    pub arm_pivot: [f64; 2],
-    /// Moment of inertia of arm and pulley about the pivot [kg m^2].
-    pub arm_inertia: f64,
-    /// Arm spring [N m/rad], viscous damper [N m s/rad] and Coulomb
-    /// friction torque of the pivot [N m].
-    pub arm_stiffness: f64,
-    /// Arm damper [N m s/rad].
-    pub arm_damping: f64,
-    /// Coulomb friction torque of the arm's pivot [N m].
-    pub arm_friction: f64,
+    /// A one-way decoupler between the hub (which the belt drives) and a
+    /// rotor, if the pulley has one; the load torque, input torque and load
+    /// damping then act on the rotor (`elements::decoupler`).
+    pub decoupler: Option<DecouplerParams>,
+    /// The automatic tensioner arm the pulley sits on, if any, instead of a
+    /// fixed centre; `x`, `y` is then its mounted centre
+    /// (`elements::tensioner`).
+    pub arm: Option<TensionerArm>,
     /// The pulley follows a prescribed speed instead of eq. 24.
     pub speed_driven: bool,
     /// Resistance torque -load_damping * omega [N m s/rad] (Fig. 13).
@@ -114,35 +96,29 @@ impl PulleyParams {
     /// (`pulley[j + 1].*`, [`Param::start`]): pulley `j + 1` of the FMU
     /// before any parameter is set; `j` < [`MAX_PULLEYS`].
     pub fn start(j: usize) -> Self {
-        let flag = |p: Param| p.start() != 0.0;
+        Self::from_values(j, &|p: Param| p.start())
+    }
+
+    /// Pulley `j` from the values `v` of its parameters (a Boolean 0 or 1):
+    /// the FMU's, or the start values. Each element reads its own
+    /// (`DecouplerParams::from_values`, `TensionerArm::from_values`).
+    pub fn from_values(j: usize, v: &dyn Fn(Param) -> f64) -> Self {
         Self {
-            x: Param::PulleyX(j).start(),
-            y: Param::PulleyY(j).start(),
-            radius: Param::PulleyRadius(j).start(),
-            inertia: Param::PulleyInertia(j).start(),
-            mu_static: Param::PulleyMuStatic(j).start(),
-            mu_kinetic: Param::PulleyMuKinetic(j).start(),
-            back_side: flag(Param::PulleyBackSide(j)),
-            groove_angle: Param::PulleyGrooveAngle(j).start(),
-            decoupler: flag(Param::PulleyDecoupler(j)),
-            decoupler_stiffness: Param::PulleyDecouplerStiffness(j).start(),
-            decoupler_damping: Param::PulleyDecouplerDamping(j).start(),
-            decoupler_clockwise: flag(Param::PulleyDecouplerClockwise(j)),
-            rotor_inertia: Param::PulleyRotorInertia(j).start(),
-            tensioner: flag(Param::PulleyTensioner(j)),
-            arm_pivot: [
-                Param::PulleyArmPivotX(j).start(),
-                Param::PulleyArmPivotY(j).start(),
-            ],
-            arm_inertia: Param::PulleyArmInertia(j).start(),
-            arm_stiffness: Param::PulleyArmStiffness(j).start(),
-            arm_damping: Param::PulleyArmDamping(j).start(),
-            arm_friction: Param::PulleyArmFriction(j).start(),
-            speed_driven: flag(Param::PulleySpeedDriven(j)),
-            load_damping: Param::PulleyLoadDamping(j).start(),
-            torque_ramp: Param::PulleyTorqueRamp(j).start(),
-            omega_ramp: Param::PulleyOmegaRamp(j).start(),
-            ramp_time: Param::PulleyRampTime(j).start(),
+            x: v(Param::PulleyX(j)),
+            y: v(Param::PulleyY(j)),
+            radius: v(Param::PulleyRadius(j)),
+            inertia: v(Param::PulleyInertia(j)),
+            mu_static: v(Param::PulleyMuStatic(j)),
+            mu_kinetic: v(Param::PulleyMuKinetic(j)),
+            back_side: v(Param::PulleyBackSide(j)) != 0.0,
+            groove_angle: v(Param::PulleyGrooveAngle(j)),
+            decoupler: DecouplerParams::from_values(j, v),
+            arm: TensionerArm::from_values(j, v),
+            speed_driven: v(Param::PulleySpeedDriven(j)) != 0.0,
+            load_damping: v(Param::PulleyLoadDamping(j)),
+            torque_ramp: v(Param::PulleyTorqueRamp(j)),
+            omega_ramp: v(Param::PulleyOmegaRamp(j)),
+            ramp_time: v(Param::PulleyRampTime(j)),
         }
     }
 
@@ -157,17 +133,8 @@ impl PulleyParams {
             mu_kinetic: 1.0,
             back_side: false,
             groove_angle: 0.0,
-            decoupler: false,
-            decoupler_stiffness: 10.0,
-            decoupler_damping: 0.02,
-            decoupler_clockwise: false,
-            rotor_inertia: 3e-3,
-            tensioner: false,
-            arm_pivot: [0.0, 0.0],
-            arm_inertia: 1e-3,
-            arm_stiffness: 40.0,
-            arm_damping: 0.0,
-            arm_friction: 0.0,
+            decoupler: None,
+            arm: None,
             speed_driven: false,
             load_damping: 0.0,
             torque_ramp: 0.0,
@@ -351,30 +318,53 @@ const PAPER3_BODY_LENGTH: f64 = (2.0 * 0.253 + 2.0 * std::f64::consts::PI * 0.08
 impl Default for DriveParams {
     fn default() -> Self {
         let n = Param::PulleyCount.start() as usize;
+        Self::from_values(&|p: Param| p.start(), n)
+    }
+}
+
+impl DriveParams {
+    /// The drive of the parameter values `v` (a Boolean 0 or 1) with `pulleys`
+    /// pulleys: every Real and Boolean parameter from `v`; the Integer ones
+    /// (counts, body numbers, codes) at their start values, for the caller to
+    /// convert its own ([`count`], [`body_number`]).
+    pub fn from_values(v: &dyn Fn(Param) -> f64, pulleys: usize) -> Self {
         Self {
-            pulleys: (0..n).map(PulleyParams::start).collect(),
+            pulleys: (0..pulleys)
+                .map(|j| PulleyParams::from_values(j, v))
+                .collect(),
             belt: BeltParams {
                 n_bodies: Param::BeltBodies.start() as usize,
-                preload: Param::BeltPreload.start(),
-                natural_length: Param::BeltNaturalLength.start(),
-                ea: Param::BeltEa.start(),
-                axial_damping: Param::BeltAxialDamping.start(),
-                shear_damping_factor: Param::BeltShearDampingFactor.start(),
-                bending_stiffness: Param::BeltBendingStiffness.start(),
-                bending_damping: Param::BeltBendingDamping.start(),
-                transverse_damping: Param::BeltTransverseDamping.start(),
-                mass_per_length: Param::BeltMassPerLength.start(),
+                preload: v(Param::BeltPreload),
+                natural_length: v(Param::BeltNaturalLength),
+                ea: v(Param::BeltEa),
+                axial_damping: v(Param::BeltAxialDamping),
+                shear_damping_factor: v(Param::BeltShearDampingFactor),
+                bending_stiffness: v(Param::BeltBendingStiffness),
+                bending_damping: v(Param::BeltBendingDamping),
+                transverse_damping: v(Param::BeltTransverseDamping),
+                mass_per_length: v(Param::BeltMassPerLength),
             },
             contact: ContactParams {
-                c1: Param::ContactC1.start(),
-                c2: Param::ContactC2.start(),
-                damping: Param::ContactDamping.start(),
-                p_max: Param::ContactPMax.start(),
+                c1: v(Param::ContactC1),
+                c2: v(Param::ContactC2),
+                damping: v(Param::ContactDamping),
+                p_max: v(Param::ContactPMax),
                 points: Param::ContactPoints.start() as usize,
             },
-            friction: FrictionParams::default(),
-            solver: SolverParams::default(),
-            gravity: Param::Gravity.start(),
+            friction: FrictionParams {
+                dv: v(Param::FrictionDv),
+                creep_max: v(Param::FrictionCreepMax),
+                creep_damping_time: v(Param::FrictionCreepDampingTime),
+                zone_factor: v(Param::FrictionZoneFactor),
+                ..FrictionParams::default()
+            },
+            solver: SolverParams {
+                rel_tol: v(Param::SolverRelTol),
+                abs_tol: v(Param::SolverAbsTol),
+                initial_step: v(Param::SolverInitialStep),
+                ..SolverParams::default()
+            },
+            gravity: v(Param::Gravity),
             probe_body: start_body(Param::ProbeBody),
         }
     }
@@ -539,7 +529,12 @@ pub const MAX_BODIES: usize = declared_max(Param::BeltBodies);
 /// pulley centre (the arm would have no lever for the hub force).
 pub const MIN_ARM_LENGTH: f64 = 1e-3;
 
-fn check(ok: bool, name: Param, what: impl Into<Message>, value: f64) -> Result<(), ParamError> {
+pub(crate) fn check(
+    ok: bool,
+    name: Param,
+    what: impl Into<Message>,
+    value: f64,
+) -> Result<(), ParamError> {
     if ok {
         Ok(())
     } else {
@@ -561,7 +556,7 @@ fn shown(x: f64) -> String {
 
 /// `v` is finite and inside `p`'s declared range ([`Param::declared`]):
 /// the one check of every single-parameter range.
-fn declared(p: Param, v: f64) -> Result<(), ParamError> {
+pub fn declared(p: Param, v: f64) -> Result<(), ParamError> {
     let r = p.declared();
     check(r.contains(v), p, r.describe(), v)
 }
@@ -615,7 +610,7 @@ fn start_body(p: Param) -> usize {
 
 /// `v` > 0 where the declared range starts at 0 inclusive because 0 is
 /// valid while a feature is off: `p` must be positive when `flag` is set.
-fn positive_when(p: Param, flag: Param, v: f64) -> Result<(), ParamError> {
+pub(crate) fn positive_when(p: Param, flag: Param, v: f64) -> Result<(), ParamError> {
     check(v > 0.0, p, msg!["> 0 when ", flag, " is set"], v)
 }
 
@@ -636,16 +631,7 @@ impl PulleyParams {
         declared(Param::PulleyTorqueRamp(j), self.torque_ramp)?;
         declared(Param::PulleyOmegaRamp(j), self.omega_ramp)?;
         declared(Param::PulleyRampTime(j), self.ramp_time)?;
-        declared(Param::PulleyGrooveAngle(j), self.groove_angle)?;
-        declared(Param::PulleyDecouplerStiffness(j), self.decoupler_stiffness)?;
-        declared(Param::PulleyDecouplerDamping(j), self.decoupler_damping)?;
-        declared(Param::PulleyRotorInertia(j), self.rotor_inertia)?;
-        declared(Param::PulleyArmPivotX(j), self.arm_pivot[0])?;
-        declared(Param::PulleyArmPivotY(j), self.arm_pivot[1])?;
-        declared(Param::PulleyArmInertia(j), self.arm_inertia)?;
-        declared(Param::PulleyArmStiffness(j), self.arm_stiffness)?;
-        declared(Param::PulleyArmDamping(j), self.arm_damping)?;
-        declared(Param::PulleyArmFriction(j), self.arm_friction)
+        declared(Param::PulleyGrooveAngle(j), self.groove_angle)
     }
 }
 
@@ -791,48 +777,11 @@ impl DriveParams {
                 ),
                 g,
             )?;
-            if p.decoupler {
-                let on = Param::PulleyDecoupler(j);
-                positive_when(
-                    Param::PulleyDecouplerStiffness(j),
-                    on,
-                    p.decoupler_stiffness,
-                )?;
-                check(
-                    p.decoupler_damping > 0.0,
-                    Param::PulleyDecouplerDamping(j),
-                    msg![
-                        "finite and > 0 when ",
-                        Param::PulleyDecoupler(j),
-                        " is set (the spring relaxes through it while the clutch overruns; \
-                         e.g. 0.02 N m s/rad)"
-                    ],
-                    p.decoupler_damping,
-                )?;
-                positive_when(Param::PulleyRotorInertia(j), on, p.rotor_inertia)?;
+            if let Some(d) = &p.decoupler {
+                d.validate(j)?;
             }
-            if p.tensioner {
-                let arm = (p.x - p.arm_pivot[0]).hypot(p.y - p.arm_pivot[1]);
-                if arm < MIN_ARM_LENGTH {
-                    return Err(param_error(
-                        Param::PulleyArmPivotX(j),
-                        msg![
-                            format!(
-                                "must lie at least {MIN_ARM_LENGTH} m from the pulley centre ("
-                            ),
-                            Param::PulleyX(j),
-                            ", ",
-                            Param::PulleyY(j),
-                            format!(
-                                "), which sets the arm length (got an arm of {arm:e} m; \
-                                 automotive tensioner arms are 0.05-0.1 m)"
-                            ),
-                        ],
-                    ));
-                }
-                let on = Param::PulleyTensioner(j);
-                positive_when(Param::PulleyArmInertia(j), on, p.arm_inertia)?;
-                positive_when(Param::PulleyArmStiffness(j), on, p.arm_stiffness)?;
+            if let Some(arm) = &p.arm {
+                arm.validate(j, [p.x, p.y])?;
             }
         }
         Ok(())
@@ -861,7 +810,10 @@ mod tests {
             "relative tolerance must be finite and in (0, 1) (got 1)"
         );
         assert_eq!(
-            refusal(&|p| p.pulleys[1].arm_pivot[0] = 1e300),
+            refusal(&|p| p.pulleys[1].arm = Some(TensionerArm {
+                pivot: [1e300, 0.0],
+                ..Default::default()
+            })),
             "pulley 2 tensioner pivot x must be finite and in [-1000, 1000] m (got 1e300)"
         );
         assert_eq!(
@@ -871,13 +823,14 @@ mod tests {
         // 0 is the declared (inclusive) minimum of the decoupler spring: valid
         // without a decoupler, refused with one (a rule of two parameters)
         let mut p = DriveParams::default();
-        p.pulleys[1].decoupler_stiffness = 0.0;
-        p.validate().unwrap();
-        p.pulleys[1].decoupler = true;
+        p.pulleys[1].decoupler = Some(DecouplerParams {
+            stiffness: 0.0,
+            ..Default::default()
+        });
         assert_eq!(
             p.validate().unwrap_err().to_string(),
             "pulley 2 decoupler stiffness must be > 0 when pulley 2 decoupler is set (got 0)"
         );
-        assert_eq!((MAX_PULLEYS, MAX_BODIES), (6, 2000));
+        assert_eq!((MAX_PULLEYS, MAX_BODIES), (8, 2000));
     }
 }

@@ -90,9 +90,18 @@ pub enum IterationMatrix {
     B14(Factors<14>),
     /// Border of 15 unknowns.
     B15(Factors<15>),
+    /// Border of 16 unknowns.
+    B16(Factors<16>),
+    /// Border of 17 unknowns.
+    B17(Factors<17>),
+    /// Border of 18 unknowns.
+    B18(Factors<18>),
+    /// Border of 19 unknowns.
+    B19(Factors<19>),
 }
 
-const _: () = assert!(3 + 2 * MAX_PULLEYS == 15);
+// one variant per border size up to every slot's pulley free and on an arm
+const _: () = assert!(3 + 2 * MAX_PULLEYS == 19);
 
 macro_rules! each {
     ($m:expr, $f:ident => $e:expr) => {
@@ -110,6 +119,10 @@ macro_rules! each {
             IterationMatrix::B13($f) => $e,
             IterationMatrix::B14($f) => $e,
             IterationMatrix::B15($f) => $e,
+            IterationMatrix::B16($f) => $e,
+            IterationMatrix::B17($f) => $e,
+            IterationMatrix::B18($f) => $e,
+            IterationMatrix::B19($f) => $e,
         }
     };
 }
@@ -133,7 +146,11 @@ impl IterationMatrix {
             12 => Self::B12(Factors::new(sys)),
             13 => Self::B13(Factors::new(sys)),
             14 => Self::B14(Factors::new(sys)),
-            _ => Self::B15(Factors::new(sys)),
+            15 => Self::B15(Factors::new(sys)),
+            16 => Self::B16(Factors::new(sys)),
+            17 => Self::B17(Factors::new(sys)),
+            18 => Self::B18(Factors::new(sys)),
+            _ => Self::B19(Factors::new(sys)),
         }
     }
 
@@ -780,7 +797,7 @@ impl<'a> View<'a> {
 pub(crate) mod tests {
     use super::*;
     use crate::drive::Drive;
-    use crate::model::params::{DriveParams, PulleyParams};
+    use crate::model::params::{DecouplerParams, DriveParams, PulleyParams, TensionerArm};
 
     /// Gaussian elimination with partial pivoting (row-major `a`), the
     /// reference for the structured solves.
@@ -844,19 +861,23 @@ pub(crate) mod tests {
             p.probe_body = 0;
             if dec {
                 // decouplers on a free hub and on hub 1 (speed-driven in one case)
-                p.pulleys[0].decoupler = true;
-                p.pulleys[1].decoupler = true;
-                p.pulleys[1].decoupler_clockwise = true;
+                p.pulleys[0].decoupler = Some(DecouplerParams::default());
+                p.pulleys[1].decoupler = Some(DecouplerParams {
+                    clockwise: true,
+                    ..Default::default()
+                });
             }
             if arms {
                 // an arm on pulley 2 (and on pulley 3 of three), pivots
                 // 80 mm off the centres
                 for (j, pivot) in [(1, [0.3, 0.06]), (2, [0.2, 0.25])] {
                     if let Some(t) = p.pulleys.get_mut(j) {
-                        t.tensioner = true;
-                        t.arm_pivot = pivot;
-                        t.arm_friction = 1.5;
-                        t.arm_damping = 0.05;
+                        t.arm = Some(TensionerArm {
+                            pivot,
+                            friction: 1.5,
+                            damping: 0.05,
+                            ..Default::default()
+                        });
                     }
                 }
             }

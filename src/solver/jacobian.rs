@@ -1086,7 +1086,9 @@ fn hub_row(partials: &Matrix2<f64>) -> Matrix2x3<f64> {
 mod tests {
     use super::*;
     use crate::drive::Drive;
-    use crate::model::params::{DriveParams, FrictionLaw, PulleyParams};
+    use crate::model::params::{
+        ArmStops, DecouplerParams, DriveParams, FrictionLaw, PulleyParams, TensionerArm,
+    };
     use crate::model::system::{NoRecord, Workspace};
 
     /// A small two-pulley drive (r = 50 and 45 mm) with 36 bodies at 120 N
@@ -1281,12 +1283,13 @@ mod tests {
             let mut p = drive(law, speed_driven).params().clone();
             p.contact.points = points;
             if arm {
-                let t = &mut p.pulleys[1];
-                t.tensioner = true;
-                t.arm_pivot = [0.3, 0.06];
-                t.arm_inertia = 2e-3;
-                t.arm_stiffness = 40.0;
-                t.arm_damping = 0.05;
+                p.pulleys[1].arm = Some(TensionerArm {
+                    pivot: [0.3, 0.06],
+                    inertia: 2e-3,
+                    stiffness: 40.0,
+                    damping: 0.05,
+                    ..Default::default()
+                });
             }
             let d = Drive::mounted(&p, 0.0).unwrap();
             let sys = d.system();
@@ -1324,8 +1327,10 @@ mod tests {
             let mut p = drive(FrictionLaw::Creep, speed_driven).params().clone();
             // hub 1 (speed-driven in the second case) and hub 2 (torque-driven)
             for (j, cw) in [(0, true), (1, false)] {
-                p.pulleys[j].decoupler = true;
-                p.pulleys[j].decoupler_clockwise = cw;
+                p.pulleys[j].decoupler = Some(DecouplerParams {
+                    clockwise: cw,
+                    ..Default::default()
+                });
                 p.pulleys[j].load_damping = 0.3;
             }
             let d = Drive::mounted(&p, 0.0).unwrap();
@@ -1355,23 +1360,33 @@ mod tests {
     /// around it.
     #[test]
     fn jacobian_covers_the_tensioner_arm() {
-        for (law, speed_driven) in [
-            (FrictionLaw::Creep, false),
-            (FrictionLaw::Kubas2014, false),
-            (FrictionLaw::Creep, true),
+        // end stops at -5e-5 and 1e-4 rad: the states below press the lower
+        // (-1e-4, in the stop's damping ramp) and the upper stop
+        let stops = ArmStops {
+            min_angle: -5e-5,
+            max_angle: 1e-4,
+            ..ArmStops::default()
+        };
+        for (law, speed_driven, stops) in [
+            (FrictionLaw::Creep, false, None),
+            (FrictionLaw::Kubas2014, false, None),
+            (FrictionLaw::Creep, true, None),
+            (FrictionLaw::Creep, false, Some(stops)),
+            (FrictionLaw::Kubas2014, true, Some(stops)),
         ] {
             let mut p = drive(law, false).params().clone();
             // the arm carries pulley 2 (0.25, 0) from a pivot 80 mm above
             // and behind it
-            let t = &mut p.pulleys[1];
-            t.tensioner = true;
-            t.arm_pivot = [0.3, 0.06];
-            t.arm_inertia = 2e-3;
-            t.arm_stiffness = 40.0;
-            t.arm_damping = 0.05;
-            t.arm_friction = 1.5;
-            t.speed_driven = speed_driven;
-            p.pulleys[0].decoupler = true;
+            p.pulleys[1].arm = Some(TensionerArm {
+                pivot: [0.3, 0.06],
+                inertia: 2e-3,
+                stiffness: 40.0,
+                damping: 0.05,
+                friction: 1.5,
+                stops,
+            });
+            p.pulleys[1].speed_driven = speed_driven;
+            p.pulleys[0].decoupler = Some(DecouplerParams::default());
             let d = Drive::mounted(&p, 0.0).unwrap();
             let sys = d.system();
             assert_eq!(sys.n_arms, 1);

@@ -3,7 +3,7 @@
 
 use super::small_drive;
 use belt_drive::model::layout::Layout;
-use belt_drive::model::params::PulleyParams;
+use belt_drive::model::params::{PulleyParams, TensionerArm};
 use belt_drive::{DriveParams, FrictionLaw};
 
 /// Three-pulley drive unlike the paper's: crank (r 60 mm) at the origin,
@@ -24,12 +24,14 @@ pub fn three_pulley(tensioner: bool) -> DriveParams {
     let mut idler = PulleyParams::paper_5pk(0.16, 0.18);
     idler.radius = 0.035;
     idler.inertia = 1e-4;
-    idler.tensioner = tensioner;
-    idler.arm_pivot = [0.24, 0.18];
-    idler.arm_inertia = 1e-3;
-    idler.arm_stiffness = 40.0;
-    idler.arm_damping = 0.05;
-    idler.arm_friction = 0.0;
+    idler.arm = tensioner.then_some(TensionerArm {
+        pivot: [0.24, 0.18],
+        inertia: 1e-3,
+        stiffness: 40.0,
+        damping: 0.05,
+        friction: 0.0,
+        stops: None,
+    });
     p.pulleys = vec![crank, load, idler];
     p
 }
@@ -51,7 +53,7 @@ pub fn free_loop() -> DriveParams {
         q.load_damping = 0.0;
         q.torque_ramp = 0.0;
     }
-    p.pulleys[2].arm_inertia = 2e-2;
+    p.pulleys[2].arm.as_mut().unwrap().inertia = 2e-2;
     for q in p.pulleys.iter_mut() {
         q.mu_static = 0.0;
         q.mu_kinetic = 0.0;
@@ -94,15 +96,16 @@ pub fn path_length(p: &DriveParams, j: usize, centre: [f64; 2]) -> f64 {
 /// steps of 1e-3 rad: truncation ~1e-6 relative).
 pub fn arm_stiffness(p: &DriveParams, j: usize) -> f64 {
     let q = &p.pulleys[j];
-    let (rx, ry) = (q.x - q.arm_pivot[0], q.y - q.arm_pivot[1]);
+    let arm = q.arm.expect("pulley j is on an arm");
+    let (rx, ry) = (q.x - arm.pivot[0], q.y - arm.pivot[1]);
     let at = |a: f64| {
         let (s, c) = a.sin_cos();
         path_length(
             p,
             j,
             [
-                q.arm_pivot[0] + c * rx - s * ry,
-                q.arm_pivot[1] + s * rx + c * ry,
+                arm.pivot[0] + c * rx - s * ry,
+                arm.pivot[1] + s * rx + c * ry,
             ],
         )
     };
@@ -127,9 +130,9 @@ pub fn arm_stiffness(p: &DriveParams, j: usize) -> f64 {
         "closed form: g {g:.5} m, L'' {l2:.5} m, K {k_belt:.4e} N/m (wraps {:.1} % of the \
          compliance), k {}, K g^2 {:.2}, T L'' {:.2} N m/rad",
         100.0 * wraps / (l_belt / p.belt.ea + wraps),
-        q.arm_stiffness,
+        arm.stiffness,
         k_belt * g * g,
         t * l2
     );
-    q.arm_stiffness + k_belt * g * g + t * l2
+    arm.stiffness + k_belt * g * g + t * l2
 }

@@ -339,7 +339,7 @@ def test_misuse_is_refused_with_a_log_line(md, unzipdir, case):
 def test_bad_parameter_names_variable_and_range(md, unzipdir):
     for name, value, text in [
         ("pulley[1].radius", -1.0, "pulley[1].radius"),
-        ("nPulleys", 7, "nPulleys"),
+        ("nPulleys", 9, "nPulleys"),
         ("pulley[2].muKinetic", 2.0, "pulley[2].muKinetic"),
         ("belt.nBodies", 20, "belt.nBodies"),
     ]:

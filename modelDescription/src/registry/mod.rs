@@ -361,6 +361,7 @@ pub fn model_description() -> String {
         }
         for (key, value) in [("start", d.start_in(*j)), ("min", d.min), ("max", d.max)] {
             if let Some(v) = value {
+                let v = v.replace("@SLOTS@", &SLOTS.to_string());
                 let _ = write!(o, " {key}=\"{v}\"");
             }
         }

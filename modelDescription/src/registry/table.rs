@@ -13,16 +13,16 @@
 use super::{calculated, discrete_output, input, output, param, Deps, Item, Ty, Vr};
 
 /// The number of pulley slots: every pulley variable exists this many times.
-pub const SLOTS: usize = 6;
+pub const SLOTS: usize = 8;
 
 /// Every variable, in model-description order.
 pub static REGISTRY: &[Item] = &[
     Item::Comment("Integer parameters"),
     Item::One(param("nPulleys", Vr::Fixed(1), Ty::Integer, &["2"])
         .min("2")
-        .max("6")
+        .max("@SLOTS@")
         .id("PulleyCount", "number of pulleys")
-        .about("Number of pulleys used (1..6 is the slot range; at least 2 needed), listed in belt order around the loop")),
+        .about("Number of pulleys used (1..@SLOTS@ is the slot range; at least 2 needed), listed in belt order around the loop")),
     Item::One(param("belt.nBodies", Vr::Fixed(2), Ty::Integer, &["150"])
         .min("3")
         .max("2000")
@@ -143,7 +143,7 @@ pub static REGISTRY: &[Item] = &[
             .max("1000")
             .id("PulleyX", "centre x")
             .about("Pulley centre x (slot {j})"),
-        param("pulley[#].y", Vr::Pulley(2), Ty::Real("Position"), &["0", "0", "0.6", "0.8", "1.0", "1.2"])
+        param("pulley[#].y", Vr::Pulley(2), Ty::Real("Position"), &["0", "0", "0.6", "0.8", "1.0", "1.2", "1.4", "1.6"])
             .min("-1000")
             .max("1000")
             .id("PulleyY", "centre y")
@@ -412,4 +412,30 @@ pub static REGISTRY: &[Item] = &[
         ],
     ),
 
+    Item::Slots(
+        None,
+        &[
+            param("pulley[#].arm.stops", Vr::Pulley(40), Ty::Boolean, &["false"])
+                .id("PulleyArmStops", "tensioner end stops")
+                .about("The tensioner arm has end stops at arm.minAngle and arm.maxAngle: past them a stiff, damped contact (arm.stopStiffness, arm.stopDamping) pushes it back (slot {j})"),
+            param("pulley[#].arm.minAngle", Vr::Pulley(41), Ty::Real("Angle"), &["-0.35"])
+                .min("-3.141592653589793")
+                .max("0")
+                .id("PulleyArmMinAngle", "tensioner lower stop angle")
+                .about("Angle of the tensioner arm's lower end stop from its mounted position, counterclockwise positive as arm.angle; the mounted arm lies between the stops (used when arm.stops is set) (slot {j})"),
+            param("pulley[#].arm.maxAngle", Vr::Pulley(42), Ty::Real("Angle"), &["0.35"])
+                .min("0")
+                .max("3.141592653589793")
+                .id("PulleyArmMaxAngle", "tensioner upper stop angle")
+                .about("Angle of the tensioner arm's upper end stop from its mounted position, counterclockwise positive as arm.angle (used when arm.stops is set) (slot {j})"),
+            param("pulley[#].arm.stopStiffness", Vr::Pulley(43), Ty::Real("TorsionalStiffness"), &["0"])
+                .min("0")
+                .id("PulleyArmStopStiffness", "tensioner stop stiffness")
+                .about("Contact stiffness of the tensioner arm's end stops; 0 = automatic: 100 times arm.stiffness (the arm yields a hundredth of what its spring would) (slot {j})"),
+            param("pulley[#].arm.stopDamping", Vr::Pulley(44), Ty::Real("RotationalDampingConstant"), &["0"])
+                .min("0")
+                .id("PulleyArmStopDamping", "tensioner stop damping")
+                .about("Contact damping of the tensioner arm's end stops, built up over the first 1e-3 rad of contact; 0 = automatic: damping ratio 0.5 of the arm on the stop, sqrt(stopStiffness * arm.inertia) (slot {j})"),
+        ],
+    ),
 ];

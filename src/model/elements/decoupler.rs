@@ -22,6 +22,9 @@
 //! spring-damper's torque exactly (delta' = w: no creep of the spring at a
 //! steady load).
 
+use crate::model::param_id::{msg, Param};
+use crate::model::params::{check, declared, positive_when, ParamError};
+
 /// Torque band over which the one-way clutch engages [N m]: a thousandth
 /// of an alternator's typical 5-20 N m drag.
 pub const CLUTCH_BAND: f64 = 1e-2;
@@ -35,6 +38,85 @@ pub struct Decoupler {
     pub damping: f64,
     /// Clutch sense s: +1 drives the rotor counterclockwise, -1 clockwise.
     pub sense: f64,
+}
+
+/// A decoupler as the user gives it (`pulley[j].decoupler.*`,
+/// `pulley[j].rotor.inertia`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DecouplerParams {
+    /// Spring [N m/rad] (> 0).
+    pub stiffness: f64,
+    /// Damper parallel to the spring [N m s/rad] (> 0).
+    pub damping: f64,
+    /// The clutch drives the rotor clockwise (negative omega) instead of
+    /// counterclockwise.
+    pub clockwise: bool,
+    /// Moment of inertia of the rotor behind the decoupler [kg m^2] (> 0).
+    pub rotor_inertia: f64,
+}
+
+/// The model description's start values (every slot starts alike).
+impl Default for DecouplerParams {
+    fn default() -> Self {
+        Self::read(0, &|p: Param| p.start())
+    }
+}
+
+impl DecouplerParams {
+    /// Pulley `j`'s decoupler from its parameter values `v`; `None` unless
+    /// `pulley[j].decoupler` is set.
+    pub fn from_values(j: usize, v: &dyn Fn(Param) -> f64) -> Option<Self> {
+        (v(Param::PulleyDecoupler(j)) != 0.0).then(|| Self::read(j, v))
+    }
+
+    fn read(j: usize, v: &dyn Fn(Param) -> f64) -> Self {
+        Self {
+            stiffness: v(Param::PulleyDecouplerStiffness(j)),
+            damping: v(Param::PulleyDecouplerDamping(j)),
+            clockwise: v(Param::PulleyDecouplerClockwise(j)) != 0.0,
+            rotor_inertia: v(Param::PulleyRotorInertia(j)),
+        }
+    }
+
+    /// Every Real parameter of the decoupler of pulley `j` with its value.
+    pub fn values(&self, j: usize) -> [(Param, f64); 3] {
+        [
+            (Param::PulleyDecouplerStiffness(j), self.stiffness),
+            (Param::PulleyDecouplerDamping(j), self.damping),
+            (Param::PulleyRotorInertia(j), self.rotor_inertia),
+        ]
+    }
+
+    /// Checks the decoupler of pulley `j`: each parameter's declared range
+    /// and that spring, damper and rotor are there.
+    pub fn validate(&self, j: usize) -> Result<(), ParamError> {
+        for (p, x) in self.values(j) {
+            declared(p, x)?;
+        }
+        let on = Param::PulleyDecoupler(j);
+        positive_when(Param::PulleyDecouplerStiffness(j), on, self.stiffness)?;
+        check(
+            self.damping > 0.0,
+            Param::PulleyDecouplerDamping(j),
+            msg![
+                "finite and > 0 when ",
+                on,
+                " is set (the spring relaxes through it while the clutch overruns; \
+                 e.g. 0.02 N m s/rad)"
+            ],
+            self.damping,
+        )?;
+        positive_when(Param::PulleyRotorInertia(j), on, self.rotor_inertia)
+    }
+
+    /// The law's constants.
+    pub fn law(&self) -> Decoupler {
+        Decoupler {
+            stiffness: self.stiffness,
+            damping: self.damping,
+            sense: if self.clockwise { -1.0 } else { 1.0 },
+        }
+    }
 }
 
 /// Torque and twist rate of a decoupler with their partial derivatives.

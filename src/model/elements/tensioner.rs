@@ -1,5 +1,7 @@
 //! Automatic tensioner: a pulley whose centre sits on an arm pivoting about
-//! a fixed point (docs/model.md, "Automatic tensioner arm").
+//! a fixed point (docs/model.md, "Automatic tensioner arm"): its parameters
+//! ([`TensionerArm`], `pulley[j].arm.*`), its law ([`Arm`]) with partial
+//! derivatives, energy and dissipation.
 //!
 //! The arm angle alpha is measured from the mounted position, positive
 //! counterclockwise. The pulley centre is
@@ -7,7 +9,7 @@
 //! the arm length and direction at mounting. Besides the moment of the
 //! belt's hub force about the pivot, the arm carries
 //!
-//! `M_arm = -k (alpha - alpha_free) - d alpha' - M_c S(alpha' / w_c)`
+//! `M_arm = -k (alpha - alpha_free) - d alpha' - M_c S(alpha' / w_c) + M_stop`
 //!
 //! a torsion spring of free angle alpha_free, a viscous damper and the
 //! pivot's Coulomb friction M_c regularised with the friction laws' odd
@@ -15,14 +17,283 @@
 //! w_c = [`FRICTION_RATE`]. The friction makes the damping asymmetric: it
 //! adds to the spring when the arm is pushed back (belt tension rising)
 //! and subtracts from it when the arm follows the belt.
+//!
+//! End stops (optional, [`Stops`]): past a stop angle by delta the arm meets
+//! a stiff, damped contact, `M_stop = max(0, k_s delta + d_s w(delta /
+//! delta_r) delta')` pushing it back (delta' the rate of penetration, w the
+//! smoothstep of the belt contact's damping ramp, eq. 10-11, over
+//! delta_r = [`STOP_DAMPING_RAMP`], so the torque is continuous when the arm
+//! touches; never pulling, like the belt contact). At rest against a stop
+//! the arm sits past it by the excess moment over k_s.
 
+use super::contact::{smoothstep, smoothstep_slope};
 use super::friction::{s_curve, s_curve_slope};
+use crate::model::param_id::{msg, Param};
+use crate::model::params::{
+    check, declared, param_error, positive_when, ParamError, MIN_ARM_LENGTH,
+};
 
 /// Arm rate over which the pivot friction builds up [rad/s]: 0.57 deg/s,
 /// small against the rates of an arm that flutters by tenths of a degree at
 /// tens of Hz (0.1-1 rad/s), large enough to keep the friction slope
 /// M_c * 1.5 / w_c within what the explicit method steps over.
 pub const FRICTION_RATE: f64 = 1e-2;
+
+/// Penetration of an end stop over which its damping builds up [rad]
+/// (0.057 deg): the contact torque is continuous when the arm touches, and
+/// the full damping acts a fraction of a degree into the stop.
+pub const STOP_DAMPING_RAMP: f64 = 1e-3;
+
+/// An end stop's stiffness when `pulley[j].arm.stopStiffness` is 0
+/// (automatic), as a multiple of the arm's spring: the arm yields a
+/// hundredth of what the spring alone would under the same moment, stiff
+/// next to the spring while its contact frequency (10 times the arm's on
+/// its spring) stays far below the belt's.
+pub const AUTO_STOP_STIFFNESS_PER_SPRING: f64 = 100.0;
+
+/// Damping ratio of the arm on an end stop when
+/// `pulley[j].arm.stopDamping` is 0 (automatic): d = 2 zeta sqrt(k_s I_arm).
+pub const AUTO_STOP_DAMPING_RATIO: f64 = 0.5;
+
+/// A tensioner arm as the user gives it (`pulley[j].arm.*`); the pulley's
+/// centre (`x`, `y`) is its mounted position, the arm length the distance
+/// from the pivot to it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TensionerArm {
+    /// Pivot [m].
+    pub pivot: [f64; 2],
+    /// Moment of inertia of arm and pulley about the pivot [kg m^2] (> 0).
+    pub inertia: f64,
+    /// Torsion spring [N m/rad] (> 0); its free angle is found by the
+    /// mounting.
+    pub stiffness: f64,
+    /// Viscous damper [N m s/rad].
+    pub damping: f64,
+    /// Coulomb friction torque of the pivot [N m].
+    pub friction: f64,
+    /// End stops, if the arm has them.
+    pub stops: Option<ArmStops>,
+}
+
+/// End stops of a tensioner arm as the user gives them
+/// (`pulley[j].arm.minAngle`, ...).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ArmStops {
+    /// Stop angle below the mounted position [rad] (<= 0).
+    pub min_angle: f64,
+    /// Stop angle above the mounted position [rad] (>= 0).
+    pub max_angle: f64,
+    /// Contact stiffness [N m/rad]; 0: automatic,
+    /// [`AUTO_STOP_STIFFNESS_PER_SPRING`] times the arm's spring.
+    pub stiffness: f64,
+    /// Contact damping [N m s/rad]; 0: automatic, damping ratio
+    /// [`AUTO_STOP_DAMPING_RATIO`] of the arm on the stop.
+    pub damping: f64,
+}
+
+/// The model description's start values of a tensioner arm (every slot
+/// starts alike).
+impl Default for TensionerArm {
+    fn default() -> Self {
+        Self::read(0, &|p: Param| p.start())
+    }
+}
+
+/// The start values of the stops (every slot starts alike).
+impl Default for ArmStops {
+    fn default() -> Self {
+        Self::read(0, &|p: Param| p.start())
+    }
+}
+
+impl ArmStops {
+    fn read(j: usize, v: &dyn Fn(Param) -> f64) -> Self {
+        Self {
+            min_angle: v(Param::PulleyArmMinAngle(j)),
+            max_angle: v(Param::PulleyArmMaxAngle(j)),
+            stiffness: v(Param::PulleyArmStopStiffness(j)),
+            damping: v(Param::PulleyArmStopDamping(j)),
+        }
+    }
+
+    fn values(&self, j: usize) -> [(Param, f64); 4] {
+        [
+            (Param::PulleyArmMinAngle(j), self.min_angle),
+            (Param::PulleyArmMaxAngle(j), self.max_angle),
+            (Param::PulleyArmStopStiffness(j), self.stiffness),
+            (Param::PulleyArmStopDamping(j), self.damping),
+        ]
+    }
+}
+
+impl TensionerArm {
+    /// Pulley `j`'s arm from its parameter values `v` (the FMU's, or the
+    /// start values); `None` unless `pulley[j].tensioner` is set.
+    pub fn from_values(j: usize, v: &dyn Fn(Param) -> f64) -> Option<Self> {
+        (v(Param::PulleyTensioner(j)) != 0.0).then(|| Self::read(j, v))
+    }
+
+    fn read(j: usize, v: &dyn Fn(Param) -> f64) -> Self {
+        Self {
+            pivot: [v(Param::PulleyArmPivotX(j)), v(Param::PulleyArmPivotY(j))],
+            inertia: v(Param::PulleyArmInertia(j)),
+            stiffness: v(Param::PulleyArmStiffness(j)),
+            damping: v(Param::PulleyArmDamping(j)),
+            friction: v(Param::PulleyArmFriction(j)),
+            stops: (v(Param::PulleyArmStops(j)) != 0.0).then(|| ArmStops::read(j, v)),
+        }
+    }
+
+    /// Every Real parameter of the arm of pulley `j` with its value.
+    pub fn values(&self, j: usize) -> Vec<(Param, f64)> {
+        let mut v = vec![
+            (Param::PulleyArmPivotX(j), self.pivot[0]),
+            (Param::PulleyArmPivotY(j), self.pivot[1]),
+            (Param::PulleyArmInertia(j), self.inertia),
+            (Param::PulleyArmStiffness(j), self.stiffness),
+            (Param::PulleyArmDamping(j), self.damping),
+            (Param::PulleyArmFriction(j), self.friction),
+        ];
+        if let Some(s) = &self.stops {
+            v.extend(s.values(j));
+        }
+        v
+    }
+
+    /// Checks the arm of pulley `j` mounted at `centre`: each parameter's
+    /// declared range and the rules that tie them together.
+    pub fn validate(&self, j: usize, centre: [f64; 2]) -> Result<(), ParamError> {
+        for (p, x) in self.values(j) {
+            declared(p, x)?;
+        }
+        let arm = (centre[0] - self.pivot[0]).hypot(centre[1] - self.pivot[1]);
+        if arm < MIN_ARM_LENGTH {
+            return Err(param_error(
+                Param::PulleyArmPivotX(j),
+                msg![
+                    format!("must lie at least {MIN_ARM_LENGTH} m from the pulley centre ("),
+                    Param::PulleyX(j),
+                    ", ",
+                    Param::PulleyY(j),
+                    format!(
+                        "), which sets the arm length (got an arm of {arm:e} m; \
+                         automotive tensioner arms are 0.05-0.1 m)"
+                    ),
+                ],
+            ));
+        }
+        let on = Param::PulleyTensioner(j);
+        positive_when(Param::PulleyArmInertia(j), on, self.inertia)?;
+        positive_when(Param::PulleyArmStiffness(j), on, self.stiffness)?;
+        if let Some(s) = &self.stops {
+            // the declared ranges put the mounted arm (angle 0) between
+            // its stops; the lower below the upper
+            check(
+                s.min_angle < s.max_angle,
+                Param::PulleyArmMinAngle(j),
+                msg![
+                    "< ",
+                    Param::PulleyArmMaxAngle(j),
+                    format!(" = {}", s.max_angle)
+                ],
+                s.min_angle,
+            )?;
+        }
+        Ok(())
+    }
+}
+
+/// End stops of an arm in the law (automatic stiffness and damping
+/// resolved).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stops {
+    /// Lower and upper stop angle [rad].
+    pub min_angle: f64,
+    /// Upper stop angle [rad].
+    pub max_angle: f64,
+    /// Contact stiffness k_s [N m/rad].
+    pub stiffness: f64,
+    /// Contact damping d_s [N m s/rad].
+    pub damping: f64,
+}
+
+impl Stops {
+    /// The stops of `s` on an arm of spring `spring` and inertia `inertia`,
+    /// their automatic stiffness and damping resolved.
+    pub fn new(s: &ArmStops, spring: f64, inertia: f64) -> Self {
+        let stiffness = if s.stiffness > 0.0 {
+            s.stiffness
+        } else {
+            AUTO_STOP_STIFFNESS_PER_SPRING * spring
+        };
+        let damping = if s.damping > 0.0 {
+            s.damping
+        } else {
+            2.0 * AUTO_STOP_DAMPING_RATIO * (stiffness * inertia).sqrt()
+        };
+        Self {
+            min_angle: s.min_angle,
+            max_angle: s.max_angle,
+            stiffness,
+            damping,
+        }
+    }
+
+    /// The stop the arm presses at `angle`: (direction +1 at the lower, -1
+    /// at the upper stop, penetration > 0), or `None` between the stops.
+    #[inline(always)]
+    fn contact(&self, angle: f64) -> Option<(f64, f64)> {
+        if angle < self.min_angle {
+            Some((1.0, self.min_angle - angle))
+        } else if angle > self.max_angle {
+            Some((-1.0, angle - self.max_angle))
+        } else {
+            None
+        }
+    }
+
+    /// Torque of the stops at `angle`, `rate` and its partials
+    /// (torque, d/d angle, d/d rate).
+    #[inline(always)]
+    pub fn torque(&self, angle: f64, rate: f64) -> (f64, f64, f64) {
+        let Some((sign, pen)) = self.contact(angle) else {
+            return (0.0, 0.0, 0.0);
+        };
+        // penetration rate; the pushing torque and its partials with
+        // respect to the penetration and its rate
+        let pen_rate = -sign * rate;
+        let u = pen / STOP_DAMPING_RAMP;
+        let (w, dw) = (smoothstep(u), smoothstep_slope(u) / STOP_DAMPING_RAMP);
+        let push = self.stiffness * pen + self.damping * w * pen_rate;
+        if push <= 0.0 {
+            // leaving faster than the spring relaxes: the stop never pulls
+            return (0.0, 0.0, 0.0);
+        }
+        let d_pen = self.stiffness + self.damping * dw * pen_rate;
+        let d_pen_rate = self.damping * w;
+        // torque = sign push; d pen / d angle = -sign, d pen_rate / d rate
+        // = -sign: sign^2 = 1
+        (sign * push, -d_pen, -d_pen_rate)
+    }
+
+    /// Elastic energy of the stops at `angle` [J].
+    pub fn energy(&self, angle: f64) -> f64 {
+        self.contact(angle)
+            .map_or(0.0, |(_, pen)| 0.5 * self.stiffness * pen * pen)
+    }
+
+    /// Power the stops dissipate at `angle`, `rate` [W] (>= 0): their torque's
+    /// power less the elastic energy's rate of change.
+    pub fn dissipation(&self, angle: f64, rate: f64) -> f64 {
+        let Some((sign, pen)) = self.contact(angle) else {
+            return 0.0;
+        };
+        let pen_rate = -sign * rate;
+        // torque . rate = -(push) pen_rate; d E / dt = k pen pen_rate
+        let push = (self.torque(angle, rate).0) * sign;
+        (push - self.stiffness * pen) * pen_rate
+    }
+}
 
 /// Constants of one tensioner arm.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -44,6 +315,8 @@ pub struct Arm {
     pub damping: f64,
     /// Coulomb friction torque of the pivot [N m].
     pub friction: f64,
+    /// End stops, if any.
+    pub stops: Option<Stops>,
 }
 
 /// Torque of the arm's own elements and its partial derivatives.
@@ -71,6 +344,23 @@ impl Arm {
             free_angle: 0.0,
             damping: 0.0,
             friction: 0.0,
+            stops: None,
+        }
+    }
+
+    /// The arm of `p` with the pulley mounted at `centre` (its spring's free
+    /// angle is set by the mounting, `Drive::new`).
+    pub fn new(p: &TensionerArm, centre: [f64; 2]) -> Self {
+        Self {
+            inertia: p.inertia,
+            stiffness: p.stiffness,
+            damping: p.damping,
+            friction: p.friction,
+            stops: p
+                .stops
+                .as_ref()
+                .map(|s| Stops::new(s, p.stiffness, p.inertia)),
+            ..Self::mounted(p.pivot, centre)
         }
     }
 
@@ -79,25 +369,38 @@ impl Arm {
         -self.stiffness * (angle - self.free_angle)
     }
 
-    /// Spring, damper and pivot friction at `angle`, rate `rate`.
+    /// Spring, damper, pivot friction and end stops at `angle`, rate `rate`.
     pub fn torque(&self, angle: f64, rate: f64) -> ArmTorque {
         let u = rate / FRICTION_RATE;
-        ArmTorque {
+        let mut t = ArmTorque {
             torque: self.spring_torque(angle) - self.damping * rate - self.friction * s_curve(u),
             d_angle: -self.stiffness,
             d_rate: -self.damping - self.friction * s_curve_slope(u) / FRICTION_RATE,
+        };
+        if let Some(s) = &self.stops {
+            let (torque, d_angle, d_rate) = s.torque(angle, rate);
+            t.torque += torque;
+            t.d_angle += d_angle;
+            t.d_rate += d_rate;
         }
+        t
     }
 
-    /// Elastic energy of the spring [J].
+    /// Elastic energy of the spring and the end stops [J].
     pub fn energy(&self, angle: f64) -> f64 {
         let e = angle - self.free_angle;
-        0.5 * self.stiffness * e * e
+        let stops = self.stops.as_ref().map_or(0.0, |s| s.energy(angle));
+        0.5 * self.stiffness * e * e + stops
     }
 
-    /// Power dissipated by the damper and the pivot friction [W] (>= 0).
-    pub fn dissipation(&self, rate: f64) -> f64 {
-        (self.damping * rate + self.friction * s_curve(rate / FRICTION_RATE)) * rate
+    /// Power dissipated by the damper, the pivot friction and the end stops
+    /// at `angle`, `rate` [W] (>= 0).
+    pub fn dissipation(&self, angle: f64, rate: f64) -> f64 {
+        let stops = self
+            .stops
+            .as_ref()
+            .map_or(0.0, |s| s.dissipation(angle, rate));
+        (self.damping * rate + self.friction * s_curve(rate / FRICTION_RATE)) * rate + stops
     }
 
     /// Pulley centre at `angle` and its derivative d c / d alpha (the
@@ -189,9 +492,9 @@ mod tests {
             // the energy is quadratic: central differences exact to rounding
             assert!((de + a.spring_torque(x)).abs() < 1e-8, "{de}");
             let p = a.torque(x, v).torque * v;
-            let balance = p + de * v + a.dissipation(v);
+            let balance = p + de * v + a.dissipation(x, v);
             assert!(balance.abs() < 1e-9, "{balance}");
-            assert!(a.dissipation(v) >= 0.0);
+            assert!(a.dissipation(x, v) >= 0.0);
         }
     }
 
@@ -205,5 +508,84 @@ mod tests {
         let m_belt = a.moment(0.0, [300.0, 150.0]).0;
         a.free_angle = a.free_angle_for(m_belt);
         assert!((a.spring_torque(0.0) + m_belt).abs() < 1e-12);
+    }
+
+    fn stopped() -> Arm {
+        let mut a = arm();
+        let s = ArmStops {
+            min_angle: -0.05,
+            max_angle: 0.08,
+            stiffness: 0.0,
+            damping: 0.0,
+        };
+        a.stops = Some(Stops::new(&s, a.stiffness, a.inertia));
+        a
+    }
+
+    /// The automatic stop: 100 times the spring, damping ratio 0.5 on the
+    /// arm's inertia.
+    #[test]
+    fn automatic_stop_stiffness_and_damping() {
+        let s = stopped().stops.unwrap();
+        assert_eq!(s.stiffness, 4000.0);
+        assert!((s.damping - (4000.0f64 * 2e-3).sqrt()).abs() < 1e-12);
+    }
+
+    /// The stops' torque against central differences of itself, at both
+    /// stops inside and beyond the damping ramp, pressing and leaving; the
+    /// power balance with their energy and dissipation; none between them
+    /// and never a pull.
+    #[test]
+    fn stops_partials_energy_and_dissipation() {
+        let a = stopped();
+        let s = a.stops.unwrap();
+        assert_eq!(s.torque(0.0, 3.0), (0.0, 0.0, 0.0));
+        for &(x, v) in &[
+            (-0.0502, -0.3),
+            (-0.0502, 0.05),
+            (-0.06, -0.2),
+            (0.0803, 0.4),
+            (0.0803, -0.02),
+            (0.095, 0.1),
+        ] {
+            let (t, d_angle, d_rate) = s.torque(x, v);
+            assert!(t != 0.0, "{x} {v}: in contact");
+            // pushes the arm back between the stops
+            assert!(t * x < 0.0, "{x} {v}: {t}");
+            let h = 1e-8;
+            let fd_x = (s.torque(x + h, v).0 - s.torque(x - h, v).0) / (2.0 * h);
+            let fd_v = (s.torque(x, v + h).0 - s.torque(x, v - h).0) / (2.0 * h);
+            // central differences on a cubic ramp (third derivative
+            // d 6 / ramp^2 v ~ 1e6 x 1e-16: truncation 1e-10) and rounding
+            // eps |t| / h ~ 1e-8 x 10: 1e-6 relative to the slope (>= 4000)
+            assert!(
+                (fd_x - d_angle).abs() <= 1e-6 * d_angle.abs(),
+                "{fd_x} {d_angle}"
+            );
+            assert!(
+                (fd_v - d_rate).abs() <= 1e-6 * d_angle.abs(),
+                "{fd_v} {d_rate}"
+            );
+            // power balance: torque . rate = -dE/dt - dissipation
+            let de = (s.energy(x + h) - s.energy(x - h)) / (2.0 * h) * v;
+            let balance = t * v + de + s.dissipation(x, v);
+            assert!(
+                balance.abs() <= 1e-6 * (t * v).abs().max(1e-3),
+                "{x} {v}: {balance}"
+            );
+            assert!(s.dissipation(x, v) >= 0.0);
+        }
+        // leaving fast near the surface (1e-5 rad in, 100 rad/s: the damper's
+        // 2.8 x 3e-4 x 100 = 0.085 N m beats the spring's 0.04 N m): no
+        // pull, the elastic energy lost
+        let (t, _, _) = s.torque(-0.05001, 100.0);
+        assert_eq!(t, 0.0);
+        assert!(s.dissipation(-0.05001, 100.0) > 0.0);
+        // the whole arm law carries the stops
+        let (x, v) = (0.09, 0.2);
+        assert_eq!(
+            a.torque(x, v).torque - arm().torque(x, v).torque,
+            s.torque(x, v).0
+        );
     }
 }

@@ -16,7 +16,7 @@
 //!   error control; their means over the step are outputs, see `drive.rs`).
 
 use crate::model::elements::contact::{self, ContactLaw};
-use crate::model::elements::decoupler::Decoupler;
+use crate::model::elements::decoupler::DecouplerParams;
 use crate::model::elements::friction::{with_law, Friction, Law};
 use crate::model::elements::groove::friction_factor;
 pub use crate::model::elements::pulley::PulleyConst;
@@ -643,7 +643,11 @@ impl BeltSystem {
         let np = params.pulleys.len();
         let mut n_dec = 0;
         let mut n_arms = 0;
-        let n_dec_all = params.pulleys.iter().filter(|p| p.decoupler).count();
+        let n_dec_all = params
+            .pulleys
+            .iter()
+            .filter(|p| p.decoupler.is_some())
+            .count();
         let mut pulleys = [PulleyConst::NONE; MAX_PULLEYS];
         for (j, (pc, p)) in pulleys.iter_mut().zip(&params.pulleys).enumerate() {
             let radii = contact::point_radii(p.radius, l, params.contact.points);
@@ -683,27 +687,15 @@ impl BeltSystem {
                 torque_ramp: p.torque_ramp,
                 omega_ramp: p.omega_ramp,
                 ramp_time: p.ramp_time,
-                decoupler: p.decoupler.then_some(Decoupler {
-                    stiffness: p.decoupler_stiffness,
-                    damping: p.decoupler_damping,
-                    sense: if p.decoupler_clockwise { -1.0 } else { 1.0 },
-                }),
-                rotor_inertia: p.rotor_inertia,
-                rotor_inv_inertia: 1.0 / p.rotor_inertia,
+                decoupler: p.decoupler.as_ref().map(DecouplerParams::law),
+                rotor_inertia: p.decoupler.map_or(0.0, |d| d.rotor_inertia),
+                rotor_inv_inertia: p.decoupler.map_or(0.0, |d| 1.0 / d.rotor_inertia),
                 decoupler_offset: BODY_DOF * n + 2 * np + 2 + 2 * n_dec,
-                arm: p.tensioner.then(|| Arm {
-                    inertia: p.arm_inertia,
-                    stiffness: p.arm_stiffness,
-                    damping: p.arm_damping,
-                    friction: p.arm_friction,
-                    // set by the mounting (`Drive::new`)
-                    free_angle: 0.0,
-                    ..Arm::mounted(p.arm_pivot, [p.x, p.y])
-                }),
+                arm: p.arm.as_ref().map(|a| Arm::new(a, [p.x, p.y])),
                 arm_offset: BODY_DOF * n + 2 * np + 2 + 2 * n_dec_all + 2 * n_arms,
             };
-            n_dec += usize::from(p.decoupler);
-            n_arms += usize::from(p.tensioner);
+            n_dec += usize::from(p.decoupler.is_some());
+            n_arms += usize::from(p.arm.is_some());
         }
         let f = &params.friction;
         let mut zone_factor = vec![1.0; n];
@@ -1191,7 +1183,7 @@ impl BeltSystem {
             }
             let moment = arm.moment(a, hub[j]).0;
             dy[o + 1] = (moment + arm.torque(a, w).torque) / arm.inertia;
-            p_diss += arm.dissipation(w);
+            p_diss += arm.dissipation(a, w);
         }
         let e = self.energy_offset();
         dy[e] = p_in;
