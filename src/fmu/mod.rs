@@ -109,10 +109,11 @@ impl BeltDrive {
             names::method(method).ok_or_else(|| no_code(Var::SolverMethod, method))?;
         p.solver.max_steps = max_steps as u64;
         p.contact.points = contact_points;
-        p.validate().map_err(core)?;
         // Every Real parameter keeps its declared range in every slot, used
         // or not, and whether its hardware (decoupler, arm, stops) is set or
-        // not: importers are shown the ranges of them all.
+        // not: importers are shown the ranges of them all. Checked before
+        // the rules that tie parameters together, so a value outside its
+        // range is named with the range (tests/fuzz_params.rs).
         for var in VARIABLES
             .iter()
             .filter(|x| x.causality == Causality::Parameter && x.ty == VarType::Real)
@@ -121,6 +122,7 @@ impl BeltDrive {
                 params::declared(q, v(q)).map_err(core)?;
             }
         }
+        p.validate().map_err(core)?;
         Ok(p)
     }
 
