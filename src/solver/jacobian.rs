@@ -196,6 +196,9 @@ pub struct Jacobian {
     pub arm: [ArmJacobian; MAX_PULLEYS],
     /// Per body, its coupling with the arms (empty in a drive without arms).
     pub arm_bodies: Vec<BodyArmJacobian>,
+    /// The drive's pulley count: the slots past it stay zero and are not
+    /// saved.
+    slots: usize,
 }
 
 /// Index of the neighbour blocks in `aq`/`av`.
@@ -233,23 +236,30 @@ impl Jacobian {
             } else {
                 Vec::new()
             },
+            slots: sys.np,
         }
     }
 
-    /// Visits every stored number (for saving and restoring a Jacobian that
-    /// is kept across steps, so a restored run continues bit-identically).
+    /// Visits every stored number of the drive's pulleys (for saving and
+    /// restoring a Jacobian that is kept across steps, so a restored run
+    /// continues bit-identically); the unused slots are zero.
     fn visit(&mut self, f: &mut impl FnMut(&mut f64)) {
+        let np = self.slots;
         for (b, im) in self.bodies.iter_mut().zip(&mut self.impulse) {
+            let im = &mut im[..np];
             for m in b.aq.iter_mut().chain(b.av.iter_mut()) {
                 m.iter_mut().for_each(&mut *f);
             }
             b.az.iter_mut().for_each(&mut *f);
-            for v in &mut b.aw {
+            for v in &mut b.aw[..np] {
                 v.iter_mut().for_each(&mut *f);
             }
             b.gq.iter_mut().chain(b.gv.iter_mut()).for_each(&mut *f);
-            b.gw.iter_mut().chain(b.pz.iter_mut()).for_each(&mut *f);
-            for v in b.pq.iter_mut().chain(b.pv.iter_mut()) {
+            b.gw[..np]
+                .iter_mut()
+                .chain(&mut b.pz[..np])
+                .for_each(&mut *f);
+            for v in b.pq[..np].iter_mut().chain(&mut b.pv[..np]) {
                 v.iter_mut().for_each(&mut *f);
             }
             // field by field over the pulleys (the saved order)
@@ -275,8 +285,10 @@ impl Jacobian {
             f(&mut touching);
             b.touching = touching as u8;
         }
-        self.pw.iter_mut().flatten().for_each(&mut *f);
-        for d in &mut self.dec {
+        for row in &mut self.pw[..np] {
+            row[..np].iter_mut().for_each(&mut *f);
+        }
+        for d in &mut self.dec[..np] {
             for v in [
                 &mut d.tt, &mut d.th, &mut d.tr, &mut d.rt, &mut d.rh, &mut d.rr, &mut d.ht,
                 &mut d.hr, &mut d.dt, &mut d.dr,
@@ -284,15 +296,15 @@ impl Jacobian {
                 f(v);
             }
         }
-        self.tw.iter_mut().for_each(&mut *f);
-        self.power_speed
+        self.tw[..np].iter_mut().for_each(&mut *f);
+        self.power_speed[..np]
             .iter_mut()
-            .chain(self.power_applied.iter_mut())
+            .chain(&mut self.power_applied[..np])
             .for_each(&mut *f);
-        for v in &mut self.hw {
+        for v in &mut self.hw[..np] {
             v.iter_mut().for_each(&mut *f);
         }
-        for a in &mut self.arm {
+        for a in &mut self.arm[..np] {
             for v in [
                 &mut a.aa, &mut a.ar, &mut a.aw, &mut a.pa, &mut a.pr, &mut a.ta, &mut a.tr,
             ] {
@@ -301,15 +313,16 @@ impl Jacobian {
             a.fa.iter_mut().chain(a.fr.iter_mut()).for_each(&mut *f);
         }
         for b in &mut self.arm_bodies {
-            for v in b.aa.iter_mut().chain(b.ar.iter_mut()) {
+            for v in b.aa[..np].iter_mut().chain(&mut b.ar[..np]) {
                 v.iter_mut().for_each(&mut *f);
             }
-            for v in b.rq.iter_mut().chain(b.rv.iter_mut()) {
+            for v in b.rq[..np].iter_mut().chain(&mut b.rv[..np]) {
                 v.iter_mut().for_each(&mut *f);
             }
-            b.ga.iter_mut()
-                .chain(b.gr.iter_mut())
-                .chain(b.rz.iter_mut())
+            b.ga[..np]
+                .iter_mut()
+                .chain(&mut b.gr[..np])
+                .chain(&mut b.rz[..np])
                 .for_each(&mut *f);
         }
     }
