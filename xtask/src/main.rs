@@ -369,8 +369,10 @@ fn test(args: &[String]) -> Result<()> {
     )?;
     rust_tests()?;
     if valgrind {
-        // The features of the test build: the library is not built again.
-        valgrind_with("ci", &["--features", "modes"])?;
+        // The packages and features of the test build: nothing is built
+        // again (`-p belt_drive` resolves the dependencies' features apart
+        // from the workspace and compiled 21 crates a second time).
+        valgrind_with("ci", &["--workspace", "--features", "belt_drive/modes"])?;
     } else {
         eprintln!("xtask: valgrind not found: skipping the memory check (cargo xtask valgrind)");
     }
@@ -589,12 +591,12 @@ fn have_valgrind() -> bool {
 /// ("possibly lost" and "still reachable" blocks of the Rust runtime and of
 /// dlopen are not errors).
 fn valgrind() -> Result<()> {
-    valgrind_with("release", &[])
+    valgrind_with("release", &["-p", "belt_drive"])
 }
 
-/// [`valgrind`] on the build of the given cargo profile, with extra cargo
-/// arguments (features).
-fn valgrind_with(profile: &str, extra: &[&str]) -> Result<()> {
+/// [`valgrind`] on the build of the given cargo profile, of the packages
+/// and features `select` names (cargo arguments).
+fn valgrind_with(profile: &str, select: &[&str]) -> Result<()> {
     run(
         cargo()
             .args([
@@ -604,10 +606,8 @@ fn valgrind_with(profile: &str, extra: &[&str]) -> Result<()> {
                 "--lib",
                 "--example",
                 "valgrind_driver",
-                "-p",
-                "belt_drive",
             ])
-            .args(extra),
+            .args(select),
         "build of the library and the valgrind driver",
     )?;
     let target = std::env::var("CARGO_TARGET_DIR")
