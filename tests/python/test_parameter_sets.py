@@ -30,12 +30,13 @@ def test_the_six_sets_are_there():
 
 
 def test_fead7_runs_with_both_integrators_and_they_agree():
-    """The twin of tests/parameter_sets.rs fead7_lays_out_and_both_integrators_agree
-    through FMPy: the seven-pulley drive to idle in 0.2 s, means over the last
-    50 ms of 0.3 s. Both at relTol 1e-4: the stiff method's speeds and span
-    tensions within 0.7 % of a tight RKF45 run on the accessory drives
-    (studies/accessory-preload-load.toml); means: 1 %; the arm's mean angle
-    within 1e-3 rad."""
+    """Through FMPy, the set as it ships (tests/fead.rs
+    eight_pulley_drive_runs_alike_with_both_integrators checks it in Rust with
+    an eighth pulley, at the bounds of tests/defaults.rs): the seven-pulley
+    drive to idle in 0.2 s, means over the last 50 ms of 0.3 s. Both at relTol
+    1e-4: the stiff method's speeds and span tensions within 0.7 % of a tight
+    RKF45 run on the accessory drives (studies/accessory-preload-load.toml);
+    means: 1 %; the arm's mean angle within 1e-3 rad."""
     from fmpy import simulate_fmu
     ex = ssv_example()
     start = ex.start_values(ROOT / "parameters/fead-7.ssv")
