@@ -635,14 +635,11 @@ impl PulleyParams {
     }
 }
 
-impl DriveParams {
-    /// Checks every parameter: its declared range ([`Param::declared`],
-    /// from the model description) and the rules that involve several
-    /// parameters. Geometric checks (overlap, wrap, arc resolution) are made
-    /// by [`crate::model::layout::Layout::new`].
-    pub fn validate(&self) -> Result<(), ParamError> {
-        declared_count(Param::PulleyCount, self.pulleys.len())?;
-        let b = &self.belt;
+impl BeltParams {
+    /// Checks the belt's parameters: their declared ranges, and the rules
+    /// that tie the preload to the natural length and to EA.
+    fn validate(&self) -> Result<(), ParamError> {
+        let b = self;
         declared_count(Param::BeltBodies, b.n_bodies)?;
         declared(Param::BeltPreload, b.preload)?;
         declared(Param::BeltEa, b.ea)?;
@@ -701,6 +698,19 @@ impl DriveParams {
         declared(Param::BeltBendingDamping, b.bending_damping)?;
         declared(Param::BeltTransverseDamping, b.transverse_damping)?;
         declared(Param::BeltMassPerLength, b.mass_per_length)?;
+        Ok(())
+    }
+}
+
+impl DriveParams {
+    /// Checks every parameter: its declared range ([`Param::declared`],
+    /// from the model description) and the rules that involve several
+    /// parameters. Geometric checks (overlap, wrap, arc resolution) are made
+    /// by [`crate::model::layout::Layout::new`].
+    pub fn validate(&self) -> Result<(), ParamError> {
+        declared_count(Param::PulleyCount, self.pulleys.len())?;
+        self.belt.validate()?;
+        let b = &self.belt;
         let c = &self.contact;
         declared(Param::ContactC1, c.c1)?;
         declared(Param::ContactC2, c.c2)?;

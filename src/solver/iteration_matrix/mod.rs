@@ -1,5 +1,5 @@
 //! The linear system of an implicit stage, `(I - c J) x = b`, solved in
-//! O(n) for the belt's block Jacobian (jacobian.rs).
+//! O(n) for the belt's block Jacobian (`solver/jacobian/`).
 //!
 //! 1. Reduction to velocities: positions and creep states are eliminated
 //!    exactly (dq = b_q + c dv; dz = b_z + c (g_q dq + g_v dv + g_w dw)), which
@@ -15,7 +15,7 @@
 //!    border), the border is solved densely (LU with partial pivoting), and
 //!    the bodies are found by back substitution.
 //!
-//! 3. The impulse states (jacobian.rs) have rows but no columns: they
+//! 3. The impulse states (`solver/jacobian/`) have rows but no columns: they
 //!    follow from the solution, x_q = b_q + c G x.
 //!
 //! Factoring costs a few hundred flops per body, each solve about sixty; no
@@ -354,14 +354,14 @@ impl<const NB: usize> Factors<NB> {
         e
     }
 
+    /// The border block G before the elimination of bodies 0..n-2: body
+    /// n-1, the free pulleys' speeds and the arms' rates, with their
+    /// couplings through the bodies' creep.
     #[inline(always)]
-    fn factor(&mut self, sys: &BeltSystem, jac: &Jacobian, c: f64) -> bool {
-        let n = sys.n;
-        let m = n - 1;
-        let last = n - 1;
-        self.c = c;
-        let view = View::new(sys, jac, c, self.slot, self.arm_slot);
+    fn border_block(view: &View, jac: &Jacobian) -> SMatrix<f64, NB, NB> {
+        let c = view.c;
         let (bodies, arm_bodies) = (view.bodies, view.arm_bodies);
+        let last = bodies.len() - 1;
         // border block G: body n-1 and pulleys
         let mut g = SMatrix::<f64, NB, NB>::identity();
         g.fixed_view_mut::<3, 3>(0, 0)
@@ -445,6 +445,44 @@ impl<const NB: usize> Factors<NB> {
                 g[(kj, kk)] = v;
             }
         }
+        g
+    }
+
+    /// LU factors of the border block `g` in place, with partial pivoting
+    /// (unused slots are identity); its row order, None if it is singular.
+    #[inline(always)]
+    fn lu(g: &mut SMatrix<f64, NB, NB>) -> Option<[usize; NB]> {
+        let mut perm: [usize; NB] = std::array::from_fn(|i| i);
+        for k in 0..NB {
+            let p = (k..NB)
+                .max_by(|&a, &b| g[(a, k)].abs().total_cmp(&g[(b, k)].abs()))
+                .unwrap_or(k);
+            if g[(p, k)] == 0.0 || !g[(p, k)].is_finite() {
+                return None;
+            }
+            if p != k {
+                g.swap_rows(p, k);
+                perm.swap(p, k);
+            }
+            for r in k + 1..NB {
+                let l = g[(r, k)] / g[(k, k)];
+                g[(r, k)] = l;
+                for cc in k + 1..NB {
+                    g[(r, cc)] -= l * g[(k, cc)];
+                }
+            }
+        }
+        Some(perm)
+    }
+
+    #[inline(always)]
+    fn factor(&mut self, sys: &BeltSystem, jac: &Jacobian, c: f64) -> bool {
+        let n = sys.n;
+        let m = n - 1;
+        self.c = c;
+        let view = View::new(sys, jac, c, self.slot, self.arm_slot);
+        let bodies = view.bodies;
+        let mut g = Self::border_block(&view, jac);
         // decouplers: eliminate twist and rotor speed; a free hub's diagonal
         // gains -c (J_h,d h)
         for j in 0..sys.np {
@@ -492,27 +530,9 @@ impl<const NB: usize> Factors<NB> {
             e_s[i] = e;
             fd_s[i] = fd;
         }
-        // LU of the border with partial pivoting (unused slots are identity)
-        let mut perm: [usize; NB] = std::array::from_fn(|i| i);
-        for k in 0..NB {
-            let p = (k..NB)
-                .max_by(|&a, &b| g[(a, k)].abs().total_cmp(&g[(b, k)].abs()))
-                .unwrap_or(k);
-            if g[(p, k)] == 0.0 || !g[(p, k)].is_finite() {
-                return false;
-            }
-            if p != k {
-                g.swap_rows(p, k);
-                perm.swap(p, k);
-            }
-            for r in k + 1..NB {
-                let l = g[(r, k)] / g[(k, k)];
-                g[(r, k)] = l;
-                for cc in k + 1..NB {
-                    g[(r, cc)] -= l * g[(k, cc)];
-                }
-            }
-        }
+        let Some(perm) = Self::lu(&mut g) else {
+            return false;
+        };
         self.g = g;
         self.perm = perm;
         true
@@ -554,21 +574,24 @@ impl<const NB: usize> Factors<NB> {
         b[o + 6] = dz;
     }
 
-    /// Two sweeps along the belt: forward, each body's reduced right-hand
-    /// side and its elimination; backward, its velocities by substitution and
-    /// then its positions and creep state.
+    /// Step 1 of [`Self::solve`], forward along the belt: each body's
+    /// reduced right-hand side (positions and creep eliminated), eliminated
+    /// as soon as it is formed (kept in `rv`, `bz`). Returns the border's
+    /// right-hand side.
     #[inline(always)]
-    fn solve(&mut self, sys: &BeltSystem, jac: &Jacobian, b: &mut [f64]) {
+    fn forward(
+        &mut self,
+        view: &View,
+        sys: &BeltSystem,
+        jac: &Jacobian,
+        b: &[f64],
+    ) -> SVector<f64, NB> {
         let n = sys.n;
         let m = n - 1;
         let c = self.c;
-        let view = View::new(sys, jac, c, self.slot, self.arm_slot);
         let (bodies, arm_bodies) = (view.bodies, view.arm_bodies);
-        let (dinv_s, l_s, u_s) = (&self.dinv[..m], &self.l[..m], &self.u[..m]);
-        let (e_s, fd_s) = (&self.e[..m], &self.fd[..m]);
+        let (l_s, fd_s) = (&self.l[..m], &self.fd[..m]);
         let (rv_s, bz_s) = (&mut self.rv[..n], &mut self.bz[..n]);
-        // 1. forward: reduced right-hand sides (positions and creep
-        //    eliminated), each eliminated as soon as it is formed
         let mut rw = SVector::<f64, NB>::zeros();
         for (j, s) in view.slots().iter().enumerate() {
             if let Some(k) = *s {
@@ -640,21 +663,12 @@ impl<const NB: usize> Factors<NB> {
             rv_s[i] = rv;
             (q_prev, q_self) = (q_self, q_next);
         }
-        // decouplers: their part of the hub rows' right-hand side
-        let mut dec_g = [Vector2::zeros(); MAX_PULLEYS];
-        for (j, g) in dec_g.iter_mut().enumerate().take(sys.np) {
-            if sys.pulleys[j].decoupler.is_none() {
-                continue;
-            }
-            let o = sys.pulleys[j].decoupler_offset;
-            let gv = self.dec_ainv[j] * Vector2::new(b[o], b[o + 1]);
-            *g = gv;
-            if let Some(k) = view.slot[j] {
-                let d = &jac.dec[j];
-                rw[k] += c * (d.ht * gv[0] + d.hr * gv[1]);
-            }
-        }
-        // border solve: L U x = P rw
+        rw
+    }
+
+    /// The border's unknowns from the LU factors: L U x = P rw.
+    #[inline(always)]
+    fn border_solve(&self, rw: &SVector<f64, NB>) -> SVector<f64, NB> {
         let mut xb = SVector::<f64, NB>::zeros();
         for k in 0..NB {
             xb[k] = rw[self.perm[k]];
@@ -671,6 +685,35 @@ impl<const NB: usize> Factors<NB> {
             }
             xb[k] = s / self.g[(k, k)];
         }
+        xb
+    }
+
+    /// Two sweeps along the belt: forward, each body's reduced right-hand
+    /// side and its elimination; backward, its velocities by substitution and
+    /// then its positions and creep state.
+    #[inline(always)]
+    fn solve(&mut self, sys: &BeltSystem, jac: &Jacobian, b: &mut [f64]) {
+        let n = sys.n;
+        let m = n - 1;
+        let c = self.c;
+        let view = View::new(sys, jac, c, self.slot, self.arm_slot);
+        let (bodies, arm_bodies) = (view.bodies, view.arm_bodies);
+        let mut rw = self.forward(&view, sys, jac, b);
+        // decouplers: their part of the hub rows' right-hand side
+        let mut dec_g = [Vector2::zeros(); MAX_PULLEYS];
+        for (j, g) in dec_g.iter_mut().enumerate().take(sys.np) {
+            if sys.pulleys[j].decoupler.is_none() {
+                continue;
+            }
+            let o = sys.pulleys[j].decoupler_offset;
+            let gv = self.dec_ainv[j] * Vector2::new(b[o], b[o + 1]);
+            *g = gv;
+            if let Some(k) = view.slot[j] {
+                let d = &jac.dec[j];
+                rw[k] += c * (d.ht * gv[0] + d.hr * gv[1]);
+            }
+        }
+        let xb = self.border_solve(&rw);
         // pulley speeds and angles
         let mut dw = [0.0; MAX_PULLEYS];
         for (j, s) in view.slots().iter().enumerate() {
@@ -700,6 +743,8 @@ impl<const NB: usize> Factors<NB> {
             }
         }
         // 2. backward: velocities, then positions and creep of each body
+        let (dinv_s, u_s, e_s) = (&self.dinv[..m], &self.u[..m], &self.e[..m]);
+        let (rv_s, bz_s) = (&self.rv[..n], &self.bz[..n]);
         let (dw, dr) = (&dw[..sys.np], &dr[..sys.np]);
         Self::recover(
             &bodies[n - 1],
@@ -794,183 +839,4 @@ impl<'a> View<'a> {
 }
 
 #[cfg(test)]
-pub(crate) mod tests {
-    use super::*;
-    use crate::drive::Drive;
-    use crate::model::params::{DecouplerParams, DriveParams, PulleyParams, TensionerArm};
-
-    /// Gaussian elimination with partial pivoting (row-major `a`), the
-    /// reference for the structured solves.
-    pub(crate) fn dense_solve(mut a: Vec<f64>, mut b: Vec<f64>) -> Vec<f64> {
-        let n = b.len();
-        for k in 0..n {
-            let p = (k..n)
-                .max_by(|&i, &j| a[i * n + k].abs().total_cmp(&a[j * n + k].abs()))
-                .unwrap();
-            for j in 0..n {
-                a.swap(k * n + j, p * n + j);
-            }
-            b.swap(k, p);
-            for i in k + 1..n {
-                let l = a[i * n + k] / a[k * n + k];
-                if l != 0.0 {
-                    for j in k..n {
-                        a[i * n + j] -= l * a[k * n + j];
-                    }
-                    b[i] -= l * b[k];
-                }
-            }
-        }
-        for k in (0..n).rev() {
-            let mut s = b[k];
-            for j in k + 1..n {
-                s -= a[k * n + j] * b[j];
-            }
-            b[k] = s / a[k * n + k];
-        }
-        b
-    }
-
-    #[test]
-    fn solves_like_dense_gaussian_elimination() {
-        for (speed_driven, three, dec, arms) in [
-            (false, false, false, false),
-            (true, false, false, false),
-            (false, true, false, false),
-            (false, false, true, false),
-            (true, true, true, false),
-            (false, false, false, true),
-            (true, true, true, true),
-        ] {
-            let mut p = DriveParams::kubas_section4();
-            p.belt.n_bodies = 40;
-            p.belt.preload = 300.0;
-            let mut p1 = PulleyParams::paper_5pk(0.0, 0.0);
-            p1.radius = 0.05;
-            let mut p2 = p1.clone();
-            p2.x = 0.25;
-            p2.load_damping = 0.3;
-            p.pulleys = vec![p1, p2];
-            if three {
-                let mut p3 = PulleyParams::paper_5pk(0.12, 0.2);
-                p3.radius = 0.04;
-                p.pulleys.push(p3);
-                p.belt.n_bodies = 60;
-            }
-            p.pulleys[0].speed_driven = speed_driven;
-            p.probe_body = 0;
-            if dec {
-                // decouplers on a free hub and on hub 1 (speed-driven in one case)
-                p.pulleys[0].decoupler = Some(DecouplerParams::default());
-                p.pulleys[1].decoupler = Some(DecouplerParams {
-                    clockwise: true,
-                    ..Default::default()
-                });
-            }
-            if arms {
-                // an arm on pulley 2 (and on pulley 3 of three), pivots
-                // 80 mm off the centres
-                for (j, pivot) in [(1, [0.3, 0.06]), (2, [0.2, 0.25])] {
-                    if let Some(t) = p.pulleys.get_mut(j) {
-                        t.arm = Some(TensionerArm {
-                            pivot,
-                            friction: 1.5,
-                            damping: 0.05,
-                            ..Default::default()
-                        });
-                    }
-                }
-            }
-            let d = Drive::new(&p, 0.0).unwrap();
-            let sys = d.system();
-            let mut y = d.state().to_vec();
-            for j in 0..2 {
-                if dec {
-                    // engaged on hub 1, overrunning on hub 2
-                    let o = sys.pulleys[j].decoupler_offset;
-                    y[o] = [0.05, 0.02][j];
-                    y[o + 1] = [-3.0, -40.0][j];
-                }
-            }
-            for i in 0..sys.n {
-                let o = BODY_DOF * i;
-                y[o + 3] = 0.3 * (i as f64).sin();
-                y[o + 5] = 10.0 * (i as f64).cos();
-                y[o + 6] = 4e-5 * (i as f64 * 0.3).sin();
-            }
-            for (k, pc) in sys.pulleys[..sys.np].iter().enumerate() {
-                if pc.arm.is_some() {
-                    y[pc.arm_offset] = 2e-4 * (k as f64 + 1.0);
-                    y[pc.arm_offset + 1] = [0.004, -0.3, 1.0][k];
-                }
-            }
-            assert_eq!(sys.n_arms, usize::from(arms) * if three { 2 } else { 1 });
-            let dim = sys.dim();
-            let mut jac = Jacobian::new(sys);
-            sys.jacobian(0.01, &y, &mut jac);
-            let dense = jac.to_dense(sys);
-            let mut im = IterationMatrix::new(sys);
-            for c in [1e-7, 1e-5, 1e-4, 1e-3] {
-                let mut a = vec![0.0; dim * dim];
-                for r in 0..dim {
-                    for k in 0..dim {
-                        a[r * dim + k] = f64::from(u8::from(r == k)) - c * dense[r * dim + k];
-                    }
-                }
-                let b: Vec<f64> = (0..dim).map(|k| ((k * 7919) % 13) as f64 - 6.0).collect();
-                let x_ref = dense_solve(a.clone(), b.clone());
-                assert!(im.factor(sys, &jac, c));
-                let mut x = b.clone();
-                im.solve(sys, &jac, &mut x);
-                // residual of the structured solution in the dense system
-                let scale = x_ref.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-                for k in 0..dim {
-                    assert!(
-                        (x[k] - x_ref[k]).abs() <= 1e-8 * scale,
-                        "speed_driven {speed_driven}, 3 pulleys {three}, decouplers {dec}, \
-                         arms {arms}, c {c:e}: x[{k}] = {} vs {}",
-                        x[k],
-                        x_ref[k]
-                    );
-                }
-            }
-        }
-    }
-
-    /// The AVX2 builds of factor and solve give the baseline's numbers to
-    /// the last bit (no FMA).
-    #[test]
-    fn avx2_build_matches_baseline_to_the_bit() {
-        if !Isa::Avx2.available() {
-            return;
-        }
-        let mut p = DriveParams::kubas_section4();
-        p.belt.n_bodies = 120;
-        let d = Drive::new(&p, 0.0).unwrap();
-        let sys = d.system();
-        let mut y = d.state().to_vec();
-        for i in 0..sys.n {
-            let o = BODY_DOF * i;
-            y[o + 3] += 0.3 * (i as f64).sin();
-            y[o + 5] += 10.0 * (i as f64).cos();
-            y[o + 6] = 4e-5 * (i as f64 * 0.3).sin();
-        }
-        let mut jac = Jacobian::new(sys);
-        sys.jacobian(0.01, &y, &mut jac);
-        assert!(jac.bodies.iter().any(|b| b.touching != 0));
-        let rhs: Vec<f64> = (0..sys.dim())
-            .map(|k| ((k * 7919) % 13) as f64 - 6.0)
-            .collect();
-        let (mut base, mut wide) = (IterationMatrix::new(sys), IterationMatrix::new(sys));
-        for c in [1e-6, 1e-4] {
-            assert!(base.factor_with(Isa::Baseline, sys, &jac, c));
-            assert!(wide.factor_with(Isa::Avx2, sys, &jac, c));
-            assert_eq!(base, wide);
-            let (mut xb, mut xw) = (rhs.clone(), rhs.clone());
-            base.solve_with(Isa::Baseline, sys, &jac, &mut xb);
-            wide.solve_with(Isa::Avx2, sys, &jac, &mut xw);
-            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-            assert_eq!(bits(&xb), bits(&xw), "c = {c:e}");
-        }
-    }
-}
+pub(crate) mod tests;

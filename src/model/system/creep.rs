@@ -1,0 +1,80 @@
+//! The creep reset after every accepted step, and the contact test it
+//! uses.
+
+use super::{BeltSystem, PulleyConst, BODY_DOF};
+use crate::model::elements::contact;
+use crate::model::elements::friction::Law;
+use crate::model::params::MAX_PULLEYS;
+
+impl BeltSystem {
+    /// Discrete update after every accepted step: the creep displacement of a
+    /// body that touches no pulley is reset, and kept within its cap. True
+    /// if it changed any.
+    pub fn after_step(&self, y: &mut [f64]) -> bool {
+        let mut changed = false;
+        let cap = self.friction.creep_cap();
+        let mut centres = [[0.0; 2]; MAX_PULLEYS];
+        for (j, c) in centres.iter_mut().enumerate().take(self.np) {
+            *c = self.pulley_centre(j, y).0;
+        }
+        for i in 0..self.n {
+            let o = BODY_DOF * i;
+            // a creep of +0 stays +0 either way (reset, or clamped): only
+            // the bodies that carry a creep, those on or just off a wrap,
+            // need the contact test
+            if y[o + 6].to_bits() == 0 {
+                continue;
+            }
+            let z = if self.touching(i, y, &centres).is_some() {
+                y[o + 6].clamp(-cap, cap)
+            } else {
+                0.0
+            };
+            changed |= z.to_bits() != y[o + 6].to_bits();
+            y[o + 6] = z;
+        }
+        changed
+    }
+
+    /// The first pulley body `i` touches in state `y` (pulley centres
+    /// given): a contact point of the body inside the pulley's contact
+    /// radius (the centre with one point). The test of [`Self::after_step`]
+    /// (and of the modal analysis' contact regions).
+    #[inline]
+    pub fn touching(&self, i: usize, y: &[f64], centres: &[[f64; 2]]) -> Option<usize> {
+        let o = BODY_DOF * i;
+        let (x, yy) = (y[o], y[o + 1]);
+        if self.points == 1 {
+            // the centre: the test below with xi h = 0 (its reach holds the
+            // centre's circle)
+            return self.pulleys[..self.np]
+                .iter()
+                .zip(centres)
+                .position(|(pc, c)| {
+                    let (rx, ry) = (x - c[0], yy - c[1]);
+                    rx * rx + ry * ry < pc.radii[0] * pc.radii[0]
+                });
+        }
+        let mut pulleys = self.pulleys[..self.np].iter().zip(centres);
+        // no point of a body lies farther than l/2 from its centre: a body
+        // out of every pulley's reach touches none (the common case, and
+        // no sin/cos for it)
+        let near = |pc: &PulleyConst, c: &[f64; 2]| {
+            let (rx, ry) = (x - c[0], yy - c[1]);
+            rx * rx + ry * ry < pc.reach * pc.reach
+        };
+        if !pulleys.clone().any(|(pc, c)| near(pc, c)) {
+            return None;
+        }
+        let (s, c) = y[o + 2].sin_cos();
+        let (hx, hy) = (self.half_length * c, self.half_length * s);
+        let quad = contact::quadrature(self.points);
+        pulleys.position(|(pc, c)| {
+            near(pc, c)
+                && quad.iter().zip(&pc.radii).any(|(&(xi, _), &rg)| {
+                    let (rx, ry) = (x + xi * hx - c[0], yy + xi * hy - c[1]);
+                    rx * rx + ry * ry < rg * rg
+                })
+        })
+    }
+}

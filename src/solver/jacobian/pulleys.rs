@@ -1,0 +1,80 @@
+//! The pulleys' rows of the Jacobian: load damping, the decouplers'
+//! twist and rotor, the tensioner arms' own terms.
+
+use super::{DecouplerJacobian, Jacobian};
+use crate::model::params::MAX_PULLEYS;
+use crate::model::system::{BeltSystem, PulleyConst};
+
+impl BeltSystem {
+    /// The pulleys' load damping and the decouplers' rows.
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // indices run over several parallel arrays
+    pub(super) fn pulley_rows(
+        &self,
+        pulleys: &[PulleyConst; MAX_PULLEYS],
+        y: &[f64],
+        omega_p: &[f64; MAX_PULLEYS],
+        jac: &mut Jacobian,
+    ) {
+        let np = self.np;
+        // Pulley load damping (eq. 24, Fig. 13), on the hub or, through a
+        // decoupler, on its rotor; the decoupler's terms.
+        for j in 0..np {
+            let pc = &pulleys[j];
+            let Some(dc) = &pc.decoupler else {
+                if !pc.speed_driven {
+                    jac.pw[j][j] += pc.balance_partials().0;
+                }
+                continue;
+            };
+            let d = pc.decoupler_offset;
+            let (twist, w_r) = (y[d], y[d + 1]);
+            let law = dc.law(twist, dc.relative_rate(omega_p[j], w_r));
+            let s = dc.sense;
+            // w = s (omega_h - omega_r): dw/d omega_h = s, dw/d omega_r = -s;
+            // the hub's torque is -s M, the rotor's +s M
+            let free = if pc.speed_driven { 0.0 } else { 1.0 };
+            let inv_r = pc.rotor_inv_inertia;
+            jac.dec[j] = DecouplerJacobian {
+                tt: law.rate_d_twist,
+                th: free * law.rate_d_rate * s,
+                tr: -law.rate_d_rate * s,
+                rt: s * law.torque_d_twist * inv_r,
+                rh: free * law.torque_d_rate * inv_r,
+                rr: (-law.torque_d_rate - pc.load_damping) * inv_r,
+                ht: free * -s * law.torque_d_twist * pc.inv_inertia,
+                hr: free * law.torque_d_rate * pc.inv_inertia,
+                dt: (1.0 - free) * s * law.torque_d_twist,
+                dr: (1.0 - free) * -law.torque_d_rate,
+            };
+            if !pc.speed_driven {
+                jac.pw[j][j] -= law.torque_d_rate * pc.inv_inertia;
+            }
+        }
+    }
+
+    /// The tensioner arms' own rows, with the force on each arm's hub
+    /// `hub_force` (from the contacts) and 1 / I_arm `inv_arm`.
+    #[inline(always)]
+    pub(super) fn arm_rows(
+        &self,
+        y: &[f64],
+        hub_force: &[[f64; 2]; MAX_PULLEYS],
+        inv_arm: &[f64; MAX_PULLEYS],
+        jac: &mut Jacobian,
+    ) {
+        let np = self.np;
+        // Tensioner arms: spring, damper, pivot friction and the lever of
+        // the hub force (its angle derivative at a given force)
+        for j in 0..np {
+            let pc = &self.pulleys[j];
+            let Some(arm) = &pc.arm else { continue };
+            let (a, w) = (y[pc.arm_offset], y[pc.arm_offset + 1]);
+            let own = arm.torque(a, w);
+            let inv = inv_arm[j];
+            let aj = &mut jac.arm[j];
+            aj.aa += (own.d_angle + arm.moment(a, hub_force[j]).1) * inv;
+            aj.ar += own.d_rate * inv;
+        }
+    }
+}
