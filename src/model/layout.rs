@@ -701,22 +701,14 @@ fn bodies_on_path(params: &DriveParams, spans: &[Span], wraps: &mut [Wrap], l: f
             if params.contact.points > 1 {
                 // contact along the body: the centre sinks until the points'
                 // radial resultant carries the load (elements::contact,
-                // `resting_force`, monotonic in p), by bisection from the
-                // centre contact's penetration (the outer points carry less)
+                // `resting_force`, monotonic in p), bracketed by the centre
+                // contact's penetration (the outer points carry less)
                 let points = params.contact.points;
-                let (mut lo, mut hi) = (p, 0.5 * r);
-                for _ in 0..200 {
-                    let mid = 0.5 * (lo + hi);
-                    if resting_force(&law, r, mid, 0.5 * l, points) < radial {
-                        lo = mid;
-                    } else {
-                        hi = mid;
-                    }
-                    if hi - lo <= 1e-15 * hi {
-                        break;
-                    }
-                }
-                p = 0.5 * (lo + hi);
+                p = bracketed_root(
+                    |q| resting_force(&law, r, q, 0.5 * l, points) - radial,
+                    p,
+                    0.5 * r,
+                );
             }
         }
         w.penetration = p;
@@ -734,19 +726,11 @@ fn solve_body_length(
 ) -> Result<f64, ParamError> {
     let n = params.belt.n_bodies as f64;
     // The count of bodies the path holds falls monotonically with l.
-    let (mut lo, mut hi) = (0.25 * path_length / n, 2.0 * path_length / n);
-    for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        if bodies_on_path(params, spans, wraps, mid) > n {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-        if hi - lo < 1e-16 * hi {
-            break;
-        }
-    }
-    let l = 0.5 * (lo + hi);
+    let l = bracketed_root(
+        |l| bodies_on_path(params, spans, wraps, l) - n,
+        0.25 * path_length / n,
+        2.0 * path_length / n,
+    );
     // Leave every wrap's penetration and pitch set for the final l.
     bodies_on_path(params, spans, wraps, l);
     if !(l.is_finite() && l > 0.0) {
@@ -756,6 +740,25 @@ fn solve_body_length(
         ));
     }
     Ok(l)
+}
+
+/// The root of `f` between `lo` and `hi`, where `f` changes sign, to a few
+/// ulps (Alefeld, Potra and Shi's algorithm 748, which converges in a handful
+/// of evaluations where bisection needs fifty). Where `f` keeps its sign,
+/// the end nearer a root (as bisection would end there); NaN where `f` is
+/// not finite, which the callers refuse.
+fn bracketed_root(f: impl FnMut(f64) -> f64, lo: f64, hi: f64) -> f64 {
+    match root1d::toms748(f, lo, hi).atol(0.0).maxiter(200).root() {
+        Ok(x) => x,
+        Err(root1d::Error::NoSignChange { a, fa, b, fb }) => {
+            if fa.abs() <= fb.abs() {
+                a
+            } else {
+                b
+            }
+        }
+        Err(_) => f64::NAN,
+    }
 }
 
 /// The path through the body end points: spans and arcs in loop order, by
@@ -891,17 +894,14 @@ impl EndPath {
     /// length `chord` (monotonic for chords short against the radii).
     fn chord_end(&self, a: f64, chord: f64) -> f64 {
         let pa = self.at(a).0;
-        let (mut lo, mut hi) = (a, a + 2.0 * chord + 1e-12);
-        for _ in 0..64 {
-            let mid = 0.5 * (lo + hi);
-            let pm = self.at(mid).0;
-            if (pm[0] - pa[0]).hypot(pm[1] - pa[1]) < chord {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        0.5 * (lo + hi)
+        bracketed_root(
+            |s| {
+                let ps = self.at(s).0;
+                (ps[0] - pa[0]).hypot(ps[1] - pa[1]) - chord
+            },
+            a,
+            a + 2.0 * chord + 1e-12,
+        )
     }
 
     /// Chains `n` bodies of length l with gaps `gap` from arc length 0;
@@ -936,19 +936,11 @@ fn place_bodies(
     let path = EndPath::new(params, &spans, &wraps, &radii);
     let mut ends = Vec::with_capacity(n);
     // The closing error falls as l grows; bracket around the guess.
-    let (mut lo, mut hi) = (0.95 * l_guess, 1.05 * l_guess);
-    for _ in 0..100 {
-        let mid = 0.5 * (lo + hi);
-        if path.chain(n, mid, mid * strain, &mut ends) > 0.0 {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-        if hi - lo <= 1e-15 * hi {
-            break;
-        }
-    }
-    let l = 0.5 * (lo + hi);
+    let l = bracketed_root(
+        |l| path.chain(n, l, l * strain, &mut ends),
+        0.95 * l_guess,
+        1.05 * l_guess,
+    );
     path.chain(n, l, l * strain, &mut ends);
     let bodies = ends
         .iter()
