@@ -454,7 +454,12 @@ fn running_span_mode_is_the_axially_moving_strings() {
 /// of 15, 30 or 45 periods) the three spans' errors against the moving
 /// string lie within -0.12 to +1.04 %, at most 1.2 points apart for one
 /// span, against the 5 % tolerance. So the orbit must be within 5e-3
-/// (above the stall, inside the range measured).
+/// (above the stall, inside the range measured). The orbit's residual
+/// defect also leaves a few spurious slow multipliers with |zeta| near 0.2
+/// (seen: 1.87 Hz, zeta -0.22, 27 % of its energy in span 2, after a change
+/// of the mounted state by 1e-14); a span's own mode is lightly damped
+/// (|zeta| below 0.05 in every run printed), so the check takes the first
+/// mode of the span with |zeta| < 0.1.
 #[test]
 fn running_span_modes_carry_their_own_span() {
     let mut p = heavy_running(120, Method::Rosenbrock);
@@ -471,7 +476,7 @@ fn running_span_modes_carry_their_own_span() {
         let mode = m
             .modes
             .iter()
-            .find(|x| x.part == Part::SpanTransverse(k + 1) && x.damping_ratio < 0.1)
+            .find(|x| x.part == Part::SpanTransverse(k + 1) && x.damping_ratio.abs() < 0.1)
             .unwrap_or_else(|| panic!("no mode labelled span {}", k + 1));
         let err = mode.frequency_hz / law - 1.0;
         eprintln!(
