@@ -383,7 +383,8 @@ fn test(args: &[String]) -> Result<()> {
     if !browser {
         pytest.env("BELTDRIVE_NO_BROWSER", "1");
     }
-    // -rs: every skipped test with its reason in the summary. One process:
+    // -rs: every skipped test with its reason in the summary; --durations:
+    // the ten slowest tests, where the suite's time goes. One process:
     // the whole Python suite takes about 2.5 min, and under pytest-xdist a
     // worker died (SIGILL inside fmi2DoStep) and the run hung.
     pytest.args([
@@ -391,6 +392,7 @@ fn test(args: &[String]) -> Result<()> {
         "pytest",
         "-q",
         "-rs",
+        "--durations=10",
         "-p",
         "no:cacheprovider",
         "tests/python",
