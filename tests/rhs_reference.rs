@@ -808,7 +808,7 @@ fn drives() -> Vec<(&'static str, DriveParams)> {
             stiffness: 35.0,
             damping: 0.05,
             friction: 2.0,
-            stops: None,
+            ..Default::default()
         });
     }
     let mut s3 = DriveParams::kubas_section3();

@@ -6,7 +6,8 @@
 
 mod common;
 
-use belt_drive::model::params::{ArmStops, Method, PulleyParams, TensionerArm};
+use belt_drive::model::layout::installed_arm_angle;
+use belt_drive::model::params::{ArmStops, Method, NominalSpring, PulleyParams, TensionerArm};
 use belt_drive::{Drive, DriveParams, Inputs, Outputs};
 use common::arm::*;
 use common::*;
@@ -382,5 +383,235 @@ fn arm_rests_on_its_end_stop_within_the_stop_compliance() {
         "RKF45 {} vs Rosenbrock {}",
         angles[0],
         angles[1]
+    );
+}
+
+/// The three-pulley drive without gravity (no sag: the closed form's belt
+/// path is the tangent path at the radii) with the arm's spring given as a
+/// catalogue gives it, `torque` N m at `angle` from where it is drawn.
+fn catalogue_spring(torque: f64, angle: f64) -> DriveParams {
+    let mut p = three_pulley(true);
+    p.gravity = 0.0;
+    p.pulleys[2].arm.as_mut().unwrap().nominal = Some(NominalSpring { angle, torque });
+    p
+}
+
+/// Length of a belt round pulleys all inside the loop (a convex loop,
+/// counterclockwise in pulley order) with pulley `j` at `centre`: the outer
+/// common tangents sqrt(d^2 - (r_b - r_a)^2) and the arcs r theta between
+/// them, the textbook closed form.
+fn tangent_path(p: &DriveParams, j: usize, centre: [f64; 2]) -> f64 {
+    let c: Vec<[f64; 2]> = (0..p.pulleys.len())
+        .map(|k| {
+            if k == j {
+                centre
+            } else {
+                [p.pulleys[k].x, p.pulleys[k].y]
+            }
+        })
+        .collect();
+    let n = c.len();
+    let mut dirs = Vec::new();
+    let mut length = 0.0;
+    for a in 0..n {
+        let b = (a + 1) % n;
+        assert!(!p.pulleys[a].back_side);
+        let (dx, dy) = (c[b][0] - c[a][0], c[b][1] - c[a][1]);
+        let d = dx.hypot(dy);
+        let k = p.pulleys[b].radius - p.pulleys[a].radius;
+        length += (d * d - k * k).sqrt();
+        dirs.push(dy.atan2(dx) - (k / d).asin());
+    }
+    for a in 0..n {
+        let b = (a + 1) % n;
+        let wrap = (dirs[b] - dirs[a]).rem_euclid(std::f64::consts::TAU);
+        length += p.pulleys[b].radius * wrap;
+    }
+    length
+}
+
+/// The pulley centre at arm angle `a` from where it is drawn.
+fn centre_at(p: &DriveParams, j: usize, a: f64) -> [f64; 2] {
+    let q = &p.pulleys[j];
+    let pivot = q.arm.unwrap().pivot;
+    let (s, c) = a.sin_cos();
+    let (rx, ry) = (q.x - pivot[0], q.y - pivot[1]);
+    [pivot[0] + c * rx - s * ry, pivot[1] + s * rx + c * ry]
+}
+
+/// The belt's moment about the pivot of pulley `j`'s arm at arm angle `a`
+/// and tension `t`, by virtual work: M = -t dL/d alpha (central
+/// differences of step 1e-5 rad: truncation ~1e-10 relative), independent
+/// of the model's hub force.
+fn belt_moment(p: &DriveParams, j: usize, a: f64, t: f64) -> f64 {
+    let h = 1e-5;
+    let l = |a: f64| tangent_path(p, j, centre_at(p, j, a));
+    -t * (l(a + h) - l(a - h)) / (2.0 * h)
+}
+
+/// The spring's torque at arm angle `a` (from the drawing) as the catalogue
+/// gives it: the nominal torque at the nominal angle, pressing the pulley
+/// into the belt (against the belt's moment), plus the rate times the
+/// turn towards the nominal angle.
+fn catalogue_torque(p: &DriveParams, j: usize, a: f64) -> f64 {
+    let arm = p.pulleys[j].arm.unwrap();
+    let n = arm.nominal.unwrap();
+    let side = -belt_moment(p, j, 0.0, 1.0).signum();
+    side * n.torque - arm.stiffness * (a - n.angle)
+}
+
+/// The arm angle (from the drawing) where the catalogue spring balances the
+/// belt at tension `t`: bisection of the closed-form net moment over
+/// +-0.3 rad (no stops: one root there).
+fn closed_form_angle(p: &DriveParams, j: usize, t: f64) -> f64 {
+    let net = |a: f64| catalogue_torque(p, j, a) + belt_moment(p, j, a, t);
+    let (mut lo, mut hi) = (-0.3, 0.3);
+    assert!(net(lo) > 0.0 && net(hi) < 0.0, "{} {}", net(lo), net(hi));
+    while hi - lo > 1e-12 {
+        let mid = 0.5 * (lo + hi);
+        if net(mid) > 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+/// The spring as built (`pulley[j].arm.nominalTorque` at `.nominalAngle`,
+/// the rate `arm.stiffness`): at a given installation tension the mounting
+/// turns the arm to the static moment balance of the catalogue spring and
+/// the belt, and with a belt of given natural length it finds tension and
+/// angle together (T = EA (L(alpha) / L0 - 1) and the moment balance); the
+/// drive then rests there (`catalogue_spring_rests_at_the_balance`).
+#[test]
+fn catalogue_spring_installs_at_the_static_moment_balance() {
+    let j = 2;
+    for (torque, angle) in [(30.0, 0.0), (22.0, 0.1), (40.0, -0.05)] {
+        let p = catalogue_spring(torque, angle);
+        // at the given preload
+        let t = p.belt.preload;
+        let expected = closed_form_angle(&p, j, t);
+        let d = Drive::mounted(&p, 0.0).expect("installs");
+        let installed = installed_arm_angle(&p, d.params(), j);
+        println!(
+            "{torque} N m at {angle} rad, {t} N: installed at {installed:.6} rad, closed form \
+             {expected:.6} rad"
+        );
+        // both solve the same statics to round-off: the closed form's
+        // difference quotient (1e-10) on a net moment slope of ~60 N m/rad
+        assert!(
+            (installed - expected).abs() < 1e-7,
+            "installed {installed} vs closed form {expected}"
+        );
+        assert_eq!(d.params().belt.preload, t);
+        // the belt of the length this installation has, given instead of
+        // the preload: the same tension and angle (the round trip)
+        let l0 = tangent_path(&p, j, centre_at(&p, j, expected)) / (1.0 + t / p.belt.ea);
+        let mut q = p.clone();
+        q.belt.natural_length = l0;
+        // the preload left unset (at its start value): the length sets it
+        q.belt.preload = DriveParams::default().belt.preload;
+        let d = Drive::mounted(&q, 0.0).expect("installs");
+        let (t_l, a_l) = (
+            d.params().belt.preload,
+            installed_arm_angle(&q, d.params(), j),
+        );
+        println!("  belt of {l0:.6} m: {t_l:.4} N at {a_l:.6} rad");
+        assert!((t_l / t - 1.0).abs() < 1e-6, "tension {t_l} vs {t}");
+        assert!((a_l - expected).abs() < 1e-7, "angle {a_l} vs {expected}");
+        // a shorter belt by 2 mm: tension and angle satisfy both closed
+        // forms at once
+        q.belt.natural_length = l0 - 2e-3;
+        let d = Drive::mounted(&q, 0.0).expect("installs");
+        let (t_s, a_s) = (
+            d.params().belt.preload,
+            installed_arm_angle(&q, d.params(), j),
+        );
+        let stretch = p.belt.ea * (tangent_path(&p, j, centre_at(&p, j, a_s)) / (l0 - 2e-3) - 1.0);
+        let balance = catalogue_torque(&p, j, a_s) + belt_moment(&p, j, a_s, t_s);
+        println!(
+            "  belt of {:.6} m: {t_s:.4} N at {a_s:.6} rad; EA (L/L0 - 1) = {stretch:.4} N, \
+             net moment {balance:.2e} N m",
+            l0 - 2e-3
+        );
+        assert!(t_s > t && a_s != expected, "the shorter belt is tighter");
+        // T = EA (L / L0 - 1) turns a path length into tension at EA / L0
+        // = 1.4e5 N/m: 1e-5 of T (3 mN) is 20 nm of path, the closed
+        // form's and the model's tangent paths agree to a few nm
+        assert!((t_s / stretch - 1.0).abs() < 1e-5, "{t_s} vs {stretch}");
+        assert!(balance.abs() < 1e-6 * torque, "net moment {balance}");
+    }
+}
+
+/// The installed drive rests at the balance: the arm (pulley 3) of the
+/// three-pulley drive on a catalogue spring, crank held, 0.1 s at rest. The
+/// spring's torque is the catalogue line at the arm's angle (exactly: the
+/// spring as specified), the spring carries the hub moment of the discrete
+/// belt (0.5 %, as `statics_at_rest`), and the arm stays near the
+/// continuum's angle.
+#[test]
+fn catalogue_spring_rests_at_the_balance() {
+    let j = 2;
+    let mut p = catalogue_spring(30.0, 0.0);
+    p.pulleys[0].speed_driven = true;
+    let mut d = drive(&p);
+    let installed = installed_arm_angle(&p, d.params(), j);
+    let (mut m_hub, mut spring, mut angle, mut n) = (0.0, 0.0, 0.0, 0.0);
+    for k in 1..=100 {
+        d.advance(1e-3 * k as f64).unwrap();
+        let o = d.outputs();
+        m_hub += hub_moment(d.params(), &o, j);
+        spring += o.pulleys[j].arm_spring_torque;
+        angle += o.pulleys[j].arm_angle;
+        n += 1.0;
+        // the spring as specified, at the arm's angle from the drawing
+        let a = installed + o.pulleys[j].arm_angle;
+        let line = catalogue_torque(&p, j, a);
+        assert!(
+            (o.pulleys[j].arm_spring_torque - line).abs() < 1e-9 * line.abs(),
+            "spring {} vs catalogue {line}",
+            o.pulleys[j].arm_spring_torque
+        );
+    }
+    let (m_hub, spring, angle) = (m_hub / n, spring / n, angle / n);
+    println!(
+        "installed {installed:.6} rad, then {angle:.3e} rad from there; hub moment {m_hub:.4} N m, \
+         spring {spring:.4} N m"
+    );
+    assert!(
+        (m_hub + spring).abs() <= 5e-3 * m_hub.abs(),
+        "hub moment {m_hub} vs spring {spring}"
+    );
+    // the discrete belt's hub moment differs from the continuum's by the
+    // mounted wraps' penetration and the chords (~0.5 %), which the arm
+    // takes up over its stiffness on the belt: 0.005 x 30 N m / 60 N m/rad
+    assert!(
+        angle.abs() < 3e-3,
+        "the arm moved {angle} rad from its installation"
+    );
+}
+
+/// A nominal angle without a nominal torque, and a belt length with a
+/// tensioner whose spring follows from the preload, are refused with the
+/// parameters named.
+#[test]
+fn catalogue_spring_refusals() {
+    let mut p = catalogue_spring(0.0, 0.1);
+    let e = Drive::new(&p, 0.0).unwrap_err().to_string();
+    println!("{e}");
+    assert!(
+        e.contains("pulley 3 tensioner nominal arm angle")
+            && e.contains("pulley 3 tensioner nominal spring torque"),
+        "{e}"
+    );
+    p.pulleys[2].arm.as_mut().unwrap().nominal = None;
+    p.belt.natural_length = 1.0;
+    p.belt.preload = DriveParams::default().belt.preload;
+    let e = Drive::new(&p, 0.0).unwrap_err().to_string();
+    println!("{e}");
+    assert!(
+        e.contains("pulley 3 tensioner nominal spring torque"),
+        "{e}"
     );
 }

@@ -192,6 +192,17 @@ impl BeltDrive {
             return crate::model::layout::natural_length(d.params())
                 .map_err(|e| names::render_error(&e));
         }
+        if matches!(v.var, Var::PulleyArmInstalledAngle) {
+            // Where the mounting turned the arm from its drawing (with its
+            // spring given by arm.nominalTorque).
+            let drawn = self.drive_params()?;
+            let d = self.ensure_drive()?;
+            return Ok(crate::model::layout::installed_arm_angle(
+                &drawn,
+                d.params(),
+                j,
+            ));
+        }
         if matches!(v.var, Var::BeltInstalledTension) {
             // The drive's preload: with belt.naturalLength, the one solved for.
             return Ok(self.ensure_drive()?.params().belt.preload);

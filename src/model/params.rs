@@ -8,7 +8,7 @@
 
 pub use super::elements::decoupler::DecouplerParams;
 use super::elements::groove::MIN_GROOVE_ANGLE;
-pub use super::elements::tensioner::{ArmStops, TensionerArm};
+pub use super::elements::tensioner::{ArmStops, NominalSpring, TensionerArm};
 use super::param_id::{msg, Message, Param, Part, Plain, Spelling};
 
 /// Number of pulley slots: the largest pulley count the model description

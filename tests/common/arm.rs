@@ -30,7 +30,7 @@ pub fn three_pulley(tensioner: bool) -> DriveParams {
         stiffness: 40.0,
         damping: 0.05,
         friction: 0.0,
-        stops: None,
+        ..Default::default()
     });
     p.pulleys = vec![crank, load, idler];
     p

@@ -322,7 +322,7 @@ pub static REGISTRY: &[Item] = &[
         &[
         param("pulley[#].tensioner", Vr::Pulley(15), Ty::Boolean, &["false"])
             .id("PulleyTensioner", "tensioner")
-            .about("The pulley sits on an automatic tensioner arm pivoting about pulley[j].arm.pivot.x/y; pulley[j].x/y is its centre as mounted, the arm length the distance from the pivot to it; the pulley turns with the belt like an idler (slot {j})"),
+            .about("The pulley sits on an automatic tensioner arm pivoting about pulley[j].arm.pivot.x/y; pulley[j].x/y is its centre as drawn (and as mounted, unless arm.nominalTorque gives the spring), the arm length the distance from the pivot to it; the pulley turns with the belt like an idler (slot {j})"),
         param("pulley[#].arm.pivot.x", Vr::Pulley(34), Ty::Real("Position"), &["0"])
             .min("-1000")
             .max("1000")
@@ -340,7 +340,7 @@ pub static REGISTRY: &[Item] = &[
         param("pulley[#].arm.stiffness", Vr::Pulley(37), Ty::Real("TorsionalStiffness"), &["40"])
             .min("0")
             .id("PulleyArmStiffness", "tensioner spring stiffness")
-            .about("Torsional stiffness of the tensioner spring, > 0; its free angle is set by the mounting so that it balances the belt preload (slot {j})"),
+            .about("Torsional stiffness (rate) of the tensioner spring, > 0; its free angle is set by the mounting so that it balances the belt preload, or follows from arm.nominalTorque at arm.nominalAngle (slot {j})"),
         param("pulley[#].arm.damping", Vr::Pulley(38), Ty::Real("RotationalDampingConstant"), &["0"])
             .min("0")
             .id("PulleyArmDamping", "tensioner arm damping")
@@ -363,7 +363,7 @@ pub static REGISTRY: &[Item] = &[
         ],
     ),
     Item::Array(calculated("pulley[#].arm.freeAngle", Vr::PulleyOutput(15), Ty::Real("Angle"))
-        .about("Free angle of the tensioner spring of pulley {j} from the mounted arm position, found by the mounting: the spring then balances the moment of the belt's hub force about the pivot at belt.preload (0 without an arm)")),
+        .about("Free angle of the tensioner spring of pulley {j} from the mounted arm position: found by the mounting so that the spring balances the moment of the belt's hub force about the pivot at belt.preload, or with arm.nominalTorque given the one that spring has (0 without an arm)")),
     Item::Slots(
         None,
         &[
@@ -422,12 +422,12 @@ pub static REGISTRY: &[Item] = &[
                 .min("-3.141592653589793")
                 .max("0")
                 .id("PulleyArmMinAngle", "tensioner lower stop angle")
-                .about("Angle of the tensioner arm's lower end stop from its mounted position, counterclockwise positive as arm.angle; the mounted arm lies between the stops (used when arm.stops is set) (slot {j})"),
+                .about("Angle of the tensioner arm's lower end stop from the arm as drawn (pulley[j].x/y: the mounted position unless arm.nominalTorque is given), counterclockwise positive; the drawn arm lies between the stops (used when arm.stops is set) (slot {j})"),
             param("pulley[#].arm.maxAngle", Vr::Pulley(42), Ty::Real("Angle"), &["0.35"])
                 .min("0")
                 .max("3.141592653589793")
                 .id("PulleyArmMaxAngle", "tensioner upper stop angle")
-                .about("Angle of the tensioner arm's upper end stop from its mounted position, counterclockwise positive as arm.angle (used when arm.stops is set) (slot {j})"),
+                .about("Angle of the tensioner arm's upper end stop from the arm as drawn (pulley[j].x/y: the mounted position unless arm.nominalTorque is given), counterclockwise positive (used when arm.stops is set) (slot {j})"),
             param("pulley[#].arm.stopStiffness", Vr::Pulley(43), Ty::Real("TorsionalStiffness"), &["0"])
                 .min("0")
                 .id("PulleyArmStopStiffness", "tensioner stop stiffness")
@@ -438,4 +438,20 @@ pub static REGISTRY: &[Item] = &[
                 .about("Contact damping of the tensioner arm's end stops, built up over the first 1e-3 rad of contact; 0 = automatic: damping ratio 0.5 of the arm on the stop, sqrt(stopStiffness * arm.inertia) (slot {j})"),
         ],
     ),
+    Item::Slots(
+        None,
+        &[
+            param("pulley[#].arm.nominalTorque", Vr::Pulley(46), Ty::Real("Torque"), &["0"])
+                .min("0")
+                .id("PulleyArmNominalTorque", "tensioner nominal spring torque")
+                .about("The tensioner spring as a catalogue gives it: the torque it exerts at arm.nominalAngle, pressing the pulley into the belt (a magnitude); with arm.stiffness as its rate the spring's free angle follows, and the mounting finds where the arm sits (arm.installedAngle) at belt.preload, or with belt.naturalLength together with the tension. 0 (default) = the spring's free angle follows from belt.preload with the arm where it is drawn (slot {j})"),
+            param("pulley[#].arm.nominalAngle", Vr::Pulley(45), Ty::Real("Angle"), &["0"])
+                .min("-3.141592653589793")
+                .max("3.141592653589793")
+                .id("PulleyArmNominalAngle", "tensioner nominal arm angle")
+                .about("Arm angle at which the spring exerts arm.nominalTorque, from the arm as drawn (pulley[j].x/y), counterclockwise positive; used only with arm.nominalTorque > 0 (slot {j})"),
+        ],
+    ),
+    Item::Array(calculated("pulley[#].arm.installedAngle", Vr::PulleyOutput(26), Ty::Real("Angle"))
+        .about("Angle of the installed tensioner arm of pulley {j} from where it is drawn (pulley[j].x/y), counterclockwise positive: found by the mounting when the spring is given by arm.nominalTorque, else 0. arm.angle and arm.freeAngle count from the installed arm: add this angle to read them from the drawing (slot {j})")),
 ];

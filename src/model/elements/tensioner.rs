@@ -73,6 +73,45 @@ pub struct TensionerArm {
     pub friction: f64,
     /// End stops, if the arm has them.
     pub stops: Option<ArmStops>,
+    /// The spring as a catalogue gives it, a torque at a nominal arm angle
+    /// (`pulley[j].arm.nominalTorque`, `.nominalAngle`); `None`: its free
+    /// angle follows from the installation tension with the arm where it
+    /// is drawn.
+    pub nominal: Option<NominalSpring>,
+}
+
+/// A tensioner spring given as a catalogue gives it: the torque it exerts
+/// at a nominal arm angle; with the rate (`TensionerArm::stiffness`) its
+/// free angle follows. The mounting then finds where the arm sits
+/// (`crate::model::layout::installed`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NominalSpring {
+    /// Nominal arm angle from the drawn position (`pulley[j].x/y`),
+    /// counterclockwise positive [rad].
+    pub angle: f64,
+    /// Torque of the spring at the nominal angle [N m] (> 0, a magnitude):
+    /// it turns the arm so as to press the pulley into the belt.
+    pub torque: f64,
+}
+
+impl NominalSpring {
+    fn read(j: usize, v: &dyn Fn(Param) -> f64) -> Option<Self> {
+        let (angle, torque) = (
+            v(Param::PulleyArmNominalAngle(j)),
+            v(Param::PulleyArmNominalTorque(j)),
+        );
+        // a nominal angle without a torque is kept, to be refused by
+        // `TensionerArm::validate` rather than silently dropped
+        (torque != 0.0 || angle != 0.0).then_some(Self { angle, torque })
+    }
+
+    /// Free angle of a spring of rate `stiffness` that exerts this torque at
+    /// this angle against a belt moment `belt_moment` about the pivot: the
+    /// spring torque -k (alpha - alpha_free) is -sign(M_belt) T_n at
+    /// alpha_n, so alpha_free = alpha_n - sign(M_belt) T_n / k.
+    pub fn free_angle(&self, stiffness: f64, belt_moment: f64) -> f64 {
+        self.angle - belt_moment.signum() * self.torque / stiffness
+    }
 }
 
 /// End stops of a tensioner arm as the user gives them
@@ -141,6 +180,7 @@ impl TensionerArm {
             damping: v(Param::PulleyArmDamping(j)),
             friction: v(Param::PulleyArmFriction(j)),
             stops: (v(Param::PulleyArmStops(j)) != 0.0).then(|| ArmStops::read(j, v)),
+            nominal: NominalSpring::read(j, v),
         }
     }
 
@@ -156,6 +196,10 @@ impl TensionerArm {
         ];
         if let Some(s) = &self.stops {
             v.extend(s.values(j));
+        }
+        if let Some(n) = &self.nominal {
+            v.push((Param::PulleyArmNominalAngle(j), n.angle));
+            v.push((Param::PulleyArmNominalTorque(j), n.torque));
         }
         v
     }
@@ -197,6 +241,23 @@ impl TensionerArm {
                     format!(" = {}", s.max_angle)
                 ],
                 s.min_angle,
+            )?;
+        }
+        if let Some(n) = &self.nominal {
+            // a nominal angle alone says nothing about the spring: refused,
+            // not ignored
+            check(
+                n.torque > 0.0,
+                Param::PulleyArmNominalAngle(j),
+                msg![
+                    "0 unless ",
+                    Param::PulleyArmNominalTorque(j),
+                    " > 0 gives the spring's torque at that angle (without it the spring's free \
+                     angle follows from ",
+                    Param::BeltPreload,
+                    " with the arm where it is drawn)",
+                ],
+                n.angle,
             )?;
         }
         Ok(())
@@ -317,6 +378,10 @@ pub struct Arm {
     pub friction: f64,
     /// End stops, if any.
     pub stops: Option<Stops>,
+    /// The spring as given by its torque at a nominal angle (in the frame
+    /// of the mounted arm), if it is; else its free angle follows from the
+    /// belt's moment at mounting.
+    pub nominal: Option<NominalSpring>,
 }
 
 /// Torque of the arm's own elements and its partial derivatives.
@@ -345,6 +410,7 @@ impl Arm {
             damping: 0.0,
             friction: 0.0,
             stops: None,
+            nominal: None,
         }
     }
 
@@ -360,6 +426,7 @@ impl Arm {
                 .stops
                 .as_ref()
                 .map(|s| Stops::new(s, p.stiffness, p.inertia)),
+            nominal: p.nominal,
             ..Self::mounted(p.pivot, centre)
         }
     }
@@ -423,11 +490,18 @@ impl Arm {
         (r * (c * f[1] - s * f[0]), r * (-s * f[1] - c * f[0]))
     }
 
-    /// Spring free angle that balances a belt moment `belt_moment` about
-    /// the pivot with the arm at its mounted position (angle 0): the spring
-    /// then carries the moment, -k (0 - alpha_free) + M_belt = 0.
+    /// Spring free angle at mounting under a belt moment `belt_moment`
+    /// about the pivot with the arm at its mounted position (angle 0). A
+    /// spring given by its nominal torque has its own
+    /// ([`NominalSpring::free_angle`]; the mounting put the arm where that
+    /// spring balances the belt, `crate::model::layout::installed`);
+    /// otherwise the spring carries the moment there, -k (0 - alpha_free) +
+    /// M_belt = 0.
     pub fn free_angle_for(&self, belt_moment: f64) -> f64 {
-        -belt_moment / self.stiffness
+        match &self.nominal {
+            Some(n) => n.free_angle(self.stiffness, belt_moment),
+            None => -belt_moment / self.stiffness,
+        }
     }
 }
 

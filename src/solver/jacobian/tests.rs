@@ -301,6 +301,7 @@ fn jacobian_covers_the_tensioner_arm() {
             damping: 0.05,
             friction: 1.5,
             stops,
+            ..Default::default()
         });
         p.pulleys[1].speed_driven = speed_driven;
         p.pulleys[0].decoupler = Some(DecouplerParams::default());
