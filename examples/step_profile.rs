@@ -253,7 +253,10 @@ impl Profile {
 /// `energyCheck=0` (the stiff method's energy check off), `points=<n>`
 /// (contact.points), `relTol=<x>`, `bodies=<n>` (belt.nBodies), `load=<x>`
 /// (the load dampings times x), `jacobianAge=<n>` (the stiff method's
-/// Jacobian kept for n accepted steps in the observed run; 2 by default).
+/// Jacobian kept for n accepted steps in the observed run;
+/// `SolverTuning::jacobian_max_age` by default),
+/// `armFriction=<x>` (the tensioner arms' pivot friction times x),
+/// `comm=<s>` (the window's communication step; 1 ms by default).
 #[derive(Clone, Copy, Default)]
 struct Options {
     p_max: Option<f64>,
@@ -263,6 +266,8 @@ struct Options {
     bodies: Option<usize>,
     load: Option<f64>,
     jacobian_age: Option<u32>,
+    arm_friction: Option<f64>,
+    comm: Option<f64>,
 }
 
 /// Trials whose energy terms are compared with a tight reference step.
@@ -322,6 +327,11 @@ fn run(name: &str, rpm: f64, method: Method, o: Options) {
     if let Some(x) = o.bodies {
         p.belt.n_bodies = x;
     }
+    if let Some(x) = o.arm_friction {
+        for arm in p.pulleys.iter_mut().filter_map(|q| q.arm.as_mut()) {
+            arm.friction *= x;
+        }
+    }
     if let Some(x) = o.load {
         for q in &mut p.pulleys {
             q.load_damping *= x;
@@ -348,9 +358,10 @@ fn run(name: &str, rpm: f64, method: Method, o: Options) {
     let np = p.pulleys.len();
     let (mut cpu, mut tension, mut arm) = (0.0, vec![0.0; np], 0.0);
     let mut tt = t;
-    let samples = (WINDOW / COMM).round() as usize;
+    let comm = o.comm.unwrap_or(COMM);
+    let samples = (WINDOW / comm).round() as usize;
     for k in 1..=samples {
-        tt = t + k as f64 * COMM;
+        tt = t + k as f64 * comm;
         let c0 = cpu_time();
         plain.advance(tt).expect("runs");
         cpu += cpu_time() - c0;
@@ -377,13 +388,13 @@ fn run(name: &str, rpm: f64, method: Method, o: Options) {
                 ros.jacobian_max_age = n;
             }
             let (j0, f0) = (ros.jacobians, ros.factorizations);
-            for k in 1..=(WINDOW / COMM).round() as usize {
+            for k in 1..=samples {
                 ros.advance_observed(
                     &sys,
                     &mut ws,
                     &mut tc,
                     &mut y,
-                    t + k as f64 * COMM,
+                    t + k as f64 * comm,
                     &mut |m, tr| {
                         let energy = m.error_components(tr.y, &mut comps, &mut end);
                         prof.record(&sys, &tr, &comps, &end, energy);
@@ -397,13 +408,13 @@ fn run(name: &str, rpm: f64, method: Method, o: Options) {
             (ros.jacobians - j0, ros.factorizations - f0)
         }
         Integrator::Rkf45(mut rk) => {
-            for k in 1..=(WINDOW / COMM).round() as usize {
+            for k in 1..=samples {
                 rk.advance_observed(
                     &sys,
                     &mut ws,
                     &mut tc,
                     &mut y,
-                    t + k as f64 * COMM,
+                    t + k as f64 * comm,
                     &mut |m, tr| {
                         m.error_components(tr.y, tr.h, &mut comps, &mut end);
                         prof.record(&sys, &tr, &comps, &end, 0.0);
@@ -511,6 +522,8 @@ fn main() {
             "bodies" => o.bodies = Some(v.parse().expect("bodies")),
             "load" => o.load = Some(v.parse().expect("load")),
             "jacobianAge" => o.jacobian_age = Some(v.parse().expect("jacobianAge")),
+            "armFriction" => o.arm_friction = Some(v.parse().expect("armFriction")),
+            "comm" => o.comm = Some(v.parse().expect("comm")),
             _ => panic!("option {k}"),
         }
     }
