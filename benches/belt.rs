@@ -19,6 +19,9 @@
 //!   the C API against one long doStep over the same horizon;
 //! * `scaling`: cost per body per simulated second from 60 to 1200 bodies;
 //! * `default`: the FMU's default drive (`DriveParams::default()`) over 0-0.4 s at its default tolerance;
+//! * `speeds`: real-time factor against crank speed on the accessory sets
+//!   at 800-6000 rpm and on the default 5PK drive, both methods
+//!   (benches/speeds/mod.rs);
 //! * `all`: everything (takes tens of minutes).
 //!
 //! `--method N` sets `solver.method` (1 = RKF45) for the integrator runs.
@@ -34,6 +37,7 @@
 //! `valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*rhs_loop*' <bench binary> count-rhs 150 2000`.
 
 mod common;
+mod speeds;
 use belt_drive::model::params::Method;
 use belt_drive::model::simd::Isa as SimdBuild;
 use belt_drive::model::system::{NoRecord, Workspace};
@@ -524,6 +528,9 @@ fn main() {
     }
     if run("accuracy") {
         bench_accuracy(opts);
+    }
+    if run("speeds") {
+        speeds::bench_speeds(opts.quick);
     }
 }
 

@@ -7,8 +7,8 @@
 //! is; `xtask/src/hygiene.rs` refuses both): git records when the section
 //! was regenerated.
 //!
-//! By default (about 10 minutes of one core) `benches/belt.rs` runs every
-//! section but `accuracy` (`rhs default fmu scaling kubas`) and the stiff
+//! By default (about 13 minutes of one core) `benches/belt.rs` runs every
+//! section but `accuracy` (`rhs default fmu scaling kubas speeds`) and the stiff
 //! method's accuracy on the 5PK drive at relTol 1e-4 and 1e-5 only (`accuracy
 //! --method 2 --drive 5pk --rtol 1e-4,1e-5`, against the RKF45 reference),
 //! and `benches/stiff.rs` all sections but the hour-long `kubas`: the figures
@@ -179,7 +179,7 @@ fn belt_sections(full: bool) -> &'static [&'static str] {
     if full {
         &["all"]
     } else {
-        &["rhs", "default", "fmu", "scaling", "kubas"]
+        &["rhs", "default", "fmu", "scaling", "kubas", "speeds"]
     }
 }
 
