@@ -19,6 +19,7 @@
 
 pub mod elements;
 pub mod layout;
+pub mod matmul;
 pub mod param_id;
 pub mod params;
 pub mod simd;

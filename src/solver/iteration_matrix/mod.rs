@@ -21,6 +21,7 @@
 //! Factoring costs a few hundred flops per body, each solve about sixty; no
 //! allocation after construction.
 
+use crate::model::matmul::mm;
 use crate::model::params::MAX_PULLEYS;
 use crate::model::simd::{self, Isa};
 use crate::model::system::{BeltSystem, BODY_DOF};
@@ -240,7 +241,7 @@ impl<const NB: usize> Factors<NB> {
     fn block(b: &BodyJacobian, c: f64, slot: usize) -> Matrix3<f64> {
         let mut s = -(c * c) * b.aq[slot] - c * b.av[slot];
         if slot == SELF {
-            s += Matrix3::identity() - c * b.az * Self::h_row(b, c);
+            s += Matrix3::identity() - mm(&(c * b.az), &Self::h_row(b, c));
         }
         s
     }
@@ -510,10 +511,10 @@ impl<const NB: usize> Factors<NB> {
             let mut f = Self::border_rows(&view, i);
             if i > 0 {
                 let lower = Self::block(&bodies[i], c, PREV);
-                let l = lower * dinv_s[i - 1];
-                d -= l * u_s[i - 1];
-                e -= l * e_s[i - 1];
-                f -= fd_s[i - 1] * u_s[i - 1];
+                let l = mm(&lower, &dinv_s[i - 1]);
+                d -= mm(&l, &u_s[i - 1]);
+                e -= mm(&l, &e_s[i - 1]);
+                f -= mm(&fd_s[i - 1], &u_s[i - 1]);
                 l_s[i] = l;
             }
             let Some(dinv) = d.try_inverse() else {
@@ -525,8 +526,8 @@ impl<const NB: usize> Factors<NB> {
             } else {
                 Matrix3::zeros()
             };
-            let fd = f * dinv;
-            g -= fd * e;
+            let fd = mm(&f, &dinv);
+            g -= mm(&fd, &e);
             e_s[i] = e;
             fd_s[i] = fd;
         }
@@ -619,7 +620,9 @@ impl<const NB: usize> Factors<NB> {
             let q_next = positions(b, if i + 1 == n { 0 } else { i + 1 });
             let mut bz = b[o + 6] + c * bj.gq.dot(&q_self.transpose());
             let mut rv = Vector3::new(b[o + 3], b[o + 4], b[o + 5])
-                + c * (bj.aq[PREV] * q_prev + bj.aq[SELF] * q_self + bj.aq[NEXT] * q_next);
+                + c * (mm(&bj.aq[PREV], &q_prev)
+                    + mm(&bj.aq[SELF], &q_self)
+                    + mm(&bj.aq[NEXT], &q_next));
             if bj.touching != 0 {
                 if let Some(a) = arm_bodies.get(i) {
                     for (j, s) in view.arm_slots().iter().enumerate() {
@@ -652,9 +655,9 @@ impl<const NB: usize> Factors<NB> {
             }
             if i < m {
                 if i > 0 {
-                    rv -= l_s[i] * prev_rv;
+                    rv -= mm(&l_s[i], &prev_rv);
                 }
-                rw -= fd_s[i] * rv;
+                rw -= mm(&fd_s[i], &rv);
                 prev_rv = rv;
             } else {
                 let mut top = rw.fixed_view_mut::<3, 1>(0, 0);
@@ -759,11 +762,11 @@ impl<const NB: usize> Factors<NB> {
         );
         let mut next = Vector3::zeros();
         for i in (0..m).rev() {
-            let mut r = rv_s[i] - e_s[i] * xb;
+            let mut r = rv_s[i] - mm(&e_s[i], &xb);
             if i + 1 < m {
-                r -= u_s[i] * next;
+                r -= mm(&u_s[i], &next);
             }
-            next = dinv_s[i] * r;
+            next = mm(&dinv_s[i], &r);
             Self::recover(
                 &bodies[i],
                 arm_bodies.get(i),

@@ -6,6 +6,7 @@
 //! straight body at several points (`contact.points`: [`point`],
 //! [`segment`]) in `segment.rs`.
 
+use crate::model::matmul::mm;
 use nalgebra::{Matrix2, RowVector2, Vector2};
 
 /// Smoothstep of eq. 10-11 on [0, 1]: 0 below, x^2 (3 - 2x) inside, 1 above.
@@ -279,9 +280,9 @@ pub fn force_partials(
     let dn_dv = -dn_dpd * nrm.transpose();
     let fric_x = mu * dn_dx + n_force * dmu_dv * vt_x;
     let fric_v = mu * dn_dv + n_force * dmu_dv * vt_v;
-    let f_x = nrm * dn_dx + (n_force * inv) * tau * tau.transpose() + tau * fric_x
-        - (f * inv) * nrm * tau.transpose();
-    let f_v = nrm * dn_dv + tau * fric_v;
+    let f_x = mm(&nrm, &dn_dx) + mm(&((n_force * inv) * tau), &tau.transpose()) + mm(&tau, &fric_x)
+        - mm(&((f * inv) * nrm), &tau.transpose());
+    let f_v = mm(&nrm, &dn_dv) + mm(&tau, &fric_v);
     ContactPartials {
         f,
         f_x,

@@ -7,6 +7,7 @@ use super::{
     chordal_lever, dissipation, force, force_partials, kinematics, ContactKin, ContactLaw,
 };
 use crate::model::elements::friction::Law;
+use crate::model::matmul::mm;
 use nalgebra::{Matrix2x3, RowVector2, RowVector3, Vector2};
 
 /// Most contact points along a body (`contact.points`).
@@ -434,8 +435,8 @@ pub fn segment_of<const K: usize>(
             // d v_g / du = [I | perp(a)]
             let jr = Matrix2x3::new(1.0, 0.0, pa[0], 0.0, 1.0, pa[1]);
             let jv = Matrix2x3::new(0.0, 0.0, -body.w * a[0], 0.0, 0.0, -body.w * a[1]);
-            let fq = cp.f_x * jr + cp.f_v * jv;
-            let fu = cp.f_v * jr;
+            let fq = mm(&cp.f_x, &jr) + mm(&cp.f_v, &jv);
+            let fu = mm(&cp.f_v, &jr);
             let tau = Vector2::from(kin.t);
             let paf = RowVector2::new(pa[0], pa[1]);
             d.force_q += fq;
@@ -443,19 +444,19 @@ pub fn segment_of<const K: usize>(
             d.force_z += cp.fric_z * tau;
             d.force_w += cp.fric_w * tau;
             // M = perp(a) . F, d perp(a) / dphi = -a
-            d.moment_q += paf * fq;
+            d.moment_q += mm(&paf, &fq);
             d.moment_q[2] -= a[0] * force[0] + a[1] * force[1];
-            d.moment_u += paf * fu;
+            d.moment_u += mm(&paf, &fu);
             d.moment_z += cp.fric_z * paf.dot(&tau.transpose());
             d.moment_w += cp.fric_w * paf.dot(&tau.transpose());
-            d.torque_q += lever * (cp.fric_x * jr + cp.fric_v * jv);
-            d.torque_u += lever * (cp.fric_v * jr);
+            d.torque_q += lever * (mm(&cp.fric_x, &jr) + mm(&cp.fric_v, &jv));
+            d.torque_u += lever * mm(&cp.fric_v, &jr);
             d.torque_z += lever * cp.fric_z;
             d.torque_w += lever * cp.fric_w;
             let dp_dr = -RowVector2::from(kin.n);
-            pe_q[g] = (2.0 * lw.c1 * kin.p + lw.c2) * (dp_dr * jr);
-            pv_q[g] = cp.vt_x * jr + cp.vt_v * jv;
-            pv_u[g] = cp.vt_v * jr;
+            pe_q[g] = (2.0 * lw.c1 * kin.p + lw.c2) * mm(&dp_dr, &jr);
+            pv_q[g] = mm(&cp.vt_x, &jr) + mm(&cp.vt_v, &jv);
+            pv_u[g] = mm(&cp.vt_v, &jr);
             pv_w[g] = lever;
         }
     }
