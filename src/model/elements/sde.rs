@@ -6,6 +6,7 @@
 //! right-hand side, the Jacobian, the outputs and the energy balance call
 //! these functions.
 
+use crate::model::matmul::mm;
 use nalgebra::{Matrix2, Vector2};
 
 /// The end of a belt body that an SDE attaches to: the body centre
@@ -164,8 +165,8 @@ impl AxialSde {
         let ba = self.b - self.bt;
         let (d, dd) = (Vector2::from(d), Vector2::from(dd));
         let drho_dd = dd / den - (2.0 * rho / den) * d;
-        let f_d = Matrix2::identity() * (self.k + ba * rho) + ba * d * drho_dd.transpose();
-        let f_dd = Matrix2::identity() * self.bt + (ba / den) * d * d.transpose();
+        let f_d = Matrix2::identity() * (self.k + ba * rho) + mm(&(ba * d), &drho_dd.transpose());
+        let f_dd = Matrix2::identity() * self.bt + mm(&((ba / den) * d), &d.transpose());
         (Vector2::from(f), f_d, f_dd)
     }
 }

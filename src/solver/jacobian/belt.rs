@@ -3,6 +3,7 @@
 
 use super::{perp, Jacobian, NEXT, PREV, SELF};
 use crate::model::elements::sde::{self, BodyEnd};
+use crate::model::matmul::mm;
 use crate::model::system::{BeltSystem, BODY_DOF};
 use crate::model::trig;
 use nalgebra::{Matrix3, SMatrix, Vector2};
@@ -49,20 +50,20 @@ impl BeltSystem {
             let mut dfv = SMatrix::<f64, 2, 6>::zeros();
             dfq.fixed_view_mut::<2, 2>(0, 0).copy_from(&(-f_d));
             dfq.fixed_view_mut::<2, 2>(0, 3).copy_from(&f_d);
-            dfq.set_column(2, &(f_dd * (wp * hp) - f_d * hpp));
-            dfq.set_column(5, &(f_dd * (wc * hc) - f_d * hcp));
+            dfq.set_column(2, &(mm(&f_dd, &(wp * hp)) - mm(&f_d, &hpp)));
+            dfq.set_column(5, &(mm(&f_dd, &(wc * hc)) - mm(&f_d, &hcp)));
             dfv.fixed_view_mut::<2, 2>(0, 0).copy_from(&(-f_dd));
             dfv.fixed_view_mut::<2, 2>(0, 3).copy_from(&f_dd);
-            dfv.set_column(2, &(-(f_dd * hpp)));
-            dfv.set_column(5, &(-(f_dd * hcp)));
+            dfv.set_column(2, &(-mm(&f_dd, &hpp)));
+            dfv.set_column(5, &(-mm(&f_dd, &hcp)));
             // generalized forces Q = -J_d^T F: rows dF, h_p^perp . dF, -dF,
             // h_c^perp . dF
             let q_of = |df: &SMatrix<f64, 2, 6>| {
                 let mut k = SMatrix::<f64, 6, 6>::zeros();
                 k.fixed_view_mut::<2, 6>(0, 0).copy_from(df);
-                k.set_row(2, &(hpp.transpose() * df));
+                k.set_row(2, &mm(&hpp.transpose(), df));
                 k.fixed_view_mut::<2, 6>(3, 0).copy_from(&(-df));
-                k.set_row(5, &(hcp.transpose() * df));
+                k.set_row(5, &mm(&hcp.transpose(), df));
                 k
             };
             let mut kq = q_of(&dfq);

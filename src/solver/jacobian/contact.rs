@@ -5,6 +5,7 @@
 use super::{Along, ArmJacobian, Arms, BodyArmJacobian, ImpulseColumns, Jacobian, SELF};
 use crate::model::elements::contact;
 use crate::model::elements::friction::Law;
+use crate::model::matmul::mm;
 use crate::model::params::MAX_PULLEYS;
 use crate::model::system::{BeltSystem, PulleyConst, BODY_DOF};
 use crate::model::trig;
@@ -181,8 +182,8 @@ impl BeltSystem {
         let force = contact::force(kin, normal, cp.f);
         hub_force[0] -= force[0];
         hub_force[1] -= force[1];
-        let f_a = -(cp.f_x * dc) - cp.f_v * ddc;
-        let f_r = -(cp.f_v * dc);
+        let f_a = -mm(&cp.f_x, &dc) - mm(&cp.f_v, &ddc);
+        let f_r = -mm(&cp.f_v, &dc);
         let tau = Vector2::from(kin.t);
         ba.aa[j] = Vector3::new(f_a[0] * inv_m, f_a[1] * inv_m, 0.0);
         ba.ar[j] = Vector3::new(f_r[0] * inv_m, f_r[1] * inv_m, 0.0);
@@ -190,8 +191,8 @@ impl BeltSystem {
             ba.ga[j] = -(cp.vt_x.dot(&dc.transpose()) + cp.vt_v.dot(&ddc.transpose()));
             ba.gr[j] = -cp.vt_v.dot(&dc.transpose());
         }
-        let lq = -(dc.transpose() * cp.f_x) * inv;
-        let lv = -(dc.transpose() * cp.f_v) * inv;
+        let lq = -mm(&dc.transpose(), &cp.f_x) * inv;
+        let lv = -mm(&dc.transpose(), &cp.f_v) * inv;
         ba.rq[j] = RowVector3::new(lq[0], lq[1], 0.0);
         ba.rv[j] = RowVector3::new(lv[0], lv[1], 0.0);
         ba.rz[j] = -dc.dot(&tau) * cp.fric_z * inv;
@@ -337,8 +338,8 @@ impl BeltSystem {
                 ba.ar[j] = acc(f_r, m_r);
                 ba.ga[j] = -(dot2(&d.creep_q, &dc) + dot2(&d.creep_u, &ddc));
                 ba.gr[j] = -dot2(&d.creep_u, &dc);
-                ba.rq[j] = -(dc.transpose() * d.force_q) * inv;
-                ba.rv[j] = -(dc.transpose() * d.force_u) * inv;
+                ba.rq[j] = -mm(&dc.transpose(), &d.force_q) * inv;
+                ba.rv[j] = -mm(&dc.transpose(), &d.force_u) * inv;
                 ba.rz[j] = -dc.dot(&d.force_z) * inv;
                 let aj = &mut jac.arm[j];
                 aj.aa -= dc.dot(&f_a) * inv;

@@ -5,6 +5,7 @@ use super::{
     ArmJacobian, BodyArmJacobian, BodyJacobian, DecouplerJacobian, ImpulseColumns, Jacobian, NEXT,
     PREV, SELF,
 };
+use crate::model::matmul::mm;
 use crate::model::params::MAX_PULLEYS;
 use crate::model::system::{BeltSystem, BODY_DOF};
 use nalgebra::{Vector2, Vector3};
@@ -147,7 +148,7 @@ impl Jacobian {
                 if b.touching & (1 << j) != 0 {
                     let c = &im[j];
                     torque[j] += c.tq.dot(&dq.transpose()) + c.tv.dot(&dv.transpose()) + c.tz * dz;
-                    hub[j] += c.hq * dq + c.hv * dv + c.hz * dz;
+                    hub[j] += mm(&c.hq, &dq) + mm(&c.hv, &dv) + c.hz * dz;
                 }
             }
         }
