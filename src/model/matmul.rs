@@ -22,7 +22,7 @@ pub fn mm<const R: usize, const K: usize, const C: usize>(
         for r in 0..R {
             let mut s = a[(r, 0)] * b[(0, j)];
             for k in 1..K {
-                s = a[(r, k)] * b[(k, j)] + s;
+                s += a[(r, k)] * b[(k, j)];
             }
             out[(r, j)] = s;
         }
