@@ -127,7 +127,7 @@ fn accessory_drive_with_decoupler_matches_the_plain_one() {
             (b.x, b.y, b.radius, b.back_side)
         );
         if !b.back_side {
-            let f = belt_drive::model::elements::groove::friction_factor(b.groove_angle, false);
+            let f = belt_drive::model::elements::friction_factor(b.groove_angle, false);
             // 0.359 / sin 20 deg = 1.0496, 0.342 / sin 20 deg = 0.99994: the
             // plain set's 1.05 and 1.0 to the three digits given
             assert!(

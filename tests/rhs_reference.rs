@@ -19,8 +19,8 @@
 //! law, a missed contact, a wrong sign or lever) is many orders of
 //! magnitude larger than either.
 
-use belt_drive::model::elements::friction::Law;
-use belt_drive::model::elements::tensioner::FRICTION_RATE;
+use belt_drive::model::elements::Law;
+use belt_drive::model::elements::ARM_FRICTION_RATE as FRICTION_RATE;
 use belt_drive::model::params::{PulleyParams, TensionerArm, MAX_PULLEYS};
 use belt_drive::model::simd::Isa;
 use belt_drive::model::system::{BeltSystem, Inputs, Recorder, Relaxation, Workspace, BODY_DOF};

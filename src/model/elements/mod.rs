@@ -18,11 +18,22 @@
 //!   arm, the moment of the hub force about the pivot and the arm's pivot
 //!   torque (spring, viscous damper, regularised Coulomb friction).
 
-pub mod contact;
-pub mod decoupler;
-pub mod friction;
-pub mod groove;
-pub mod pulley;
-pub mod sde;
-pub mod tensioner;
-pub mod transverse;
+pub(crate) mod contact;
+pub(crate) mod decoupler;
+pub(crate) mod friction;
+pub(crate) mod groove;
+pub(crate) mod pulley;
+pub(crate) mod sde;
+pub(crate) mod tensioner;
+pub(crate) mod transverse;
+
+// The elements' types that appear in the core's public interface
+// (`BeltSystem`'s accessors, `PulleyConst`), and what the reference
+// transcription of the right-hand side (tests/rhs_reference.rs) calls.
+pub use contact::ContactLaw;
+pub use decoupler::Decoupler;
+pub use friction::{Friction, Law};
+pub use groove::friction_factor;
+pub use sde::{AxialSde, TorsionalSde};
+pub use tensioner::{Arm, FRICTION_RATE as ARM_FRICTION_RATE};
+pub use transverse::TransverseDamper;

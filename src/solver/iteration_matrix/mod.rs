@@ -239,9 +239,9 @@ impl<const NB: usize> Factors<NB> {
     /// Reduced block S_{i,nb} of body `b` for neighbour slot (PREV, SELF, NEXT).
     #[inline(always)]
     fn block(b: &BodyJacobian, c: f64, slot: usize) -> Matrix3<f64> {
-        let mut s = -(c * c) * b.aq[slot] - c * b.av[slot];
+        let mut s = -(c * c) * b.accel_by_position[slot] - c * b.accel_by_velocity[slot];
         if slot == SELF {
-            s += Matrix3::identity() - mm(&(c * b.az), &Self::h_row(b, c));
+            s += Matrix3::identity() - mm(&(c * b.accel_by_creep), &Self::h_row(b, c));
         }
         s
     }
@@ -249,19 +249,22 @@ impl<const NB: usize> Factors<NB> {
     /// H_i = c^2 g_q + c g_v: how the creep increment follows the velocity increment.
     #[inline(always)]
     fn h_row(b: &BodyJacobian, c: f64) -> RowVector3<f64> {
-        (c * c) * b.gq + c * b.gv
+        (c * c) * b.creep_rate_by_position + c * b.creep_rate_by_velocity
     }
 
     /// Border column of body `b` for pulley j (3-vector), S_{i,w_j}.
     #[inline(always)]
     fn pulley_column(b: &BodyJacobian, c: f64, j: usize) -> Vector3<f64> {
-        -c * b.aw[j] - (c * c * b.gw[j]) * b.az
+        -c * b.accel_by_pulley_speed[j]
+            - (c * c * b.creep_rate_by_pulley_speed[j]) * b.accel_by_creep
     }
 
     /// Pulley j's row for body `b`'s velocities, R_{j,i}.
     #[inline(always)]
     fn pulley_row(b: &BodyJacobian, c: f64, j: usize) -> RowVector3<f64> {
-        -(c * c) * b.pq[j] - c * b.pv[j] - (c * b.pz[j]) * Self::h_row(b, c)
+        -(c * c) * b.pulley_accel_by_position[j]
+            - c * b.pulley_accel_by_velocity[j]
+            - (c * b.pulley_accel_by_creep[j]) * Self::h_row(b, c)
     }
 
     /// Border column of body `b` (its arm rows `a`) for the rate of pulley
@@ -269,13 +272,17 @@ impl<const NB: usize> Factors<NB> {
     /// and through the creep.
     #[inline(always)]
     fn arm_column(b: &BodyJacobian, a: &BodyArmJacobian, c: f64, j: usize) -> Vector3<f64> {
-        -c * (c * a.aa[j] + a.ar[j]) - (c * c * (c * a.ga[j] + a.gr[j])) * b.az
+        -c * (c * a.accel_by_arm_angle[j] + a.accel_by_arm_rate[j])
+            - (c * c * (c * a.creep_rate_by_arm_angle[j] + a.creep_rate_by_arm_rate[j]))
+                * b.accel_by_creep
     }
 
     /// The row of pulley j's arm for body `b`'s velocities.
     #[inline(always)]
     fn arm_row(b: &BodyJacobian, a: &BodyArmJacobian, c: f64, j: usize) -> RowVector3<f64> {
-        -(c * c) * a.rq[j] - c * a.rv[j] - (c * a.rz[j]) * Self::h_row(b, c)
+        -(c * c) * a.arm_accel_by_position[j]
+            - c * a.arm_accel_by_velocity[j]
+            - (c * a.arm_accel_by_creep[j]) * Self::h_row(b, c)
     }
 
     /// Border entries (rows of body n-1 and the pulleys) of body i's columns.
@@ -379,10 +386,11 @@ impl<const NB: usize> Factors<NB> {
             // pulley-pulley: R_{j,w_k} = delta - c pw - c^2 sum_i pz_ij gw_ik
             for (k, sk) in view.slots().iter().enumerate() {
                 let Some(kk) = *sk else { continue };
-                let mut v = if j == k { 1.0 } else { 0.0 } - c * jac.pw[j][k];
+                let mut v =
+                    if j == k { 1.0 } else { 0.0 } - c * jac.pulley_accel_by_pulley_speed[j][k];
                 for b in bodies {
                     if b.touching & (1 << j) != 0 {
-                        v -= c * c * b.pz[j] * b.gw[k];
+                        v -= c * c * b.pulley_accel_by_creep[j] * b.creep_rate_by_pulley_speed[k];
                     }
                 }
                 g[(kj, kk)] = v;
@@ -393,11 +401,16 @@ impl<const NB: usize> Factors<NB> {
                 let Some(kk) = *sk else { continue };
                 let mut v = 0.0;
                 if j == k {
-                    v -= c * (c * jac.arm[j].pa + jac.arm[j].pr);
+                    v -= c
+                        * (c * jac.arms[j].pulley_accel_by_arm_angle
+                            + jac.arms[j].pulley_accel_by_arm_rate);
                 }
                 for (b, a) in bodies.iter().zip(arm_bodies) {
                     if b.touching & (1 << j) != 0 {
-                        v -= c * c * b.pz[j] * (c * a.ga[k] + a.gr[k]);
+                        v -= c
+                            * c
+                            * b.pulley_accel_by_creep[j]
+                            * (c * a.creep_rate_by_arm_angle[k] + a.creep_rate_by_arm_rate[k]);
                     }
                 }
                 g[(kj, kk)] = v;
@@ -423,10 +436,14 @@ impl<const NB: usize> Factors<NB> {
             let touching = |b: &BodyJacobian| b.touching & (1 << j) != 0;
             for (k, sk) in view.slots().iter().enumerate() {
                 let Some(kk) = *sk else { continue };
-                let mut v = if j == k { -c * jac.arm[j].aw } else { 0.0 };
+                let mut v = if j == k {
+                    -c * jac.arms[j].arm_accel_by_pulley_speed
+                } else {
+                    0.0
+                };
                 for (b, a) in bodies.iter().zip(arm_bodies) {
                     if touching(b) {
-                        v -= c * c * a.rz[j] * b.gw[k];
+                        v -= c * c * a.arm_accel_by_creep[j] * b.creep_rate_by_pulley_speed[k];
                     }
                 }
                 g[(kj, kk)] = v;
@@ -434,13 +451,16 @@ impl<const NB: usize> Factors<NB> {
             for (k, sk) in view.arm_slots().iter().enumerate() {
                 let Some(kk) = *sk else { continue };
                 let mut v = if j == k {
-                    1.0 - c * (c * jac.arm[j].aa + jac.arm[j].ar)
+                    1.0 - c * (c * jac.arms[j].arm_accel_by_angle + jac.arms[j].arm_accel_by_rate)
                 } else {
                     0.0
                 };
                 for (b, a) in bodies.iter().zip(arm_bodies) {
                     if touching(b) {
-                        v -= c * c * a.rz[j] * (c * a.ga[k] + a.gr[k]);
+                        v -= c
+                            * c
+                            * a.arm_accel_by_creep[j]
+                            * (c * a.creep_rate_by_arm_angle[k] + a.creep_rate_by_arm_rate[k]);
                     }
                 }
                 g[(kj, kk)] = v;
@@ -490,16 +510,26 @@ impl<const NB: usize> Factors<NB> {
             if sys.pulleys[j].decoupler.is_none() {
                 continue;
             }
-            let d = &jac.dec[j];
-            let a = Matrix2::new(1.0 - c * d.tt, -c * d.tr, -c * d.rt, 1.0 - c * d.rr);
+            let d = &jac.decouplers[j];
+            let a = Matrix2::new(
+                1.0 - c * d.twist_rate_by_twist,
+                -c * d.twist_rate_by_rotor_speed,
+                -c * d.rotor_accel_by_twist,
+                1.0 - c * d.rotor_accel_by_rotor_speed,
+            );
             let Some(ainv) = a.try_inverse() else {
                 return false;
             };
-            let h = ainv * Vector2::new(c * d.th, c * d.rh);
+            let h = ainv
+                * Vector2::new(
+                    c * d.twist_rate_by_hub_speed,
+                    c * d.rotor_accel_by_hub_speed,
+                );
             self.dec_ainv[j] = ainv;
             self.dec_h[j] = h;
             if let Some(kj) = self.slot[j] {
-                g[(kj, kj)] -= c * (d.ht * h[0] + d.hr * h[1]);
+                g[(kj, kj)] -=
+                    c * (d.hub_accel_by_twist * h[0] + d.hub_accel_by_rotor_speed * h[1]);
             }
         }
         // forward elimination over bodies 0..n-2, into the factors' slices
@@ -559,13 +589,20 @@ impl<const NB: usize> Factors<NB> {
         let dq = positions(b, i) + c * dv;
         // bz is b_z + c g_q b_q (+ c g_alpha b_alpha); add the terms of the
         // increments
-        let mut dz = bz + c * (c * bj.gq.dot(&dv.transpose()) + bj.gv.dot(&dv.transpose()));
+        let mut dz = bz
+            + c * (c * bj.creep_rate_by_position.dot(&dv.transpose())
+                + bj.creep_rate_by_velocity.dot(&dv.transpose()));
         if bj.touching != 0 {
-            for (g, w) in bj.gw.iter().zip(dw) {
+            for (g, w) in bj.creep_rate_by_pulley_speed.iter().zip(dw) {
                 dz += c * g * w;
             }
             if let Some(a) = arm {
-                for ((ga, gr), r) in a.ga.iter().zip(&a.gr).zip(dr) {
+                for ((ga, gr), r) in a
+                    .creep_rate_by_arm_angle
+                    .iter()
+                    .zip(&a.creep_rate_by_arm_rate)
+                    .zip(dr)
+                {
                     dz += c * (c * ga + gr) * r;
                 }
             }
@@ -606,10 +643,10 @@ impl<const NB: usize> Factors<NB> {
             if let Some(k) = *s {
                 let o = sys.pulleys[j].arm_offset;
                 b_arm[j] = b[o];
-                let a = &jac.arm[j];
-                rw[k] = b[o + 1] + c * a.aa * b[o];
+                let a = &jac.arms[j];
+                rw[k] = b[o + 1] + c * a.arm_accel_by_angle * b[o];
                 if let Some(kp) = view.slot[j] {
-                    rw[kp] += c * a.pa * b[o];
+                    rw[kp] += c * a.pulley_accel_by_arm_angle * b[o];
                 }
             }
         }
@@ -618,28 +655,30 @@ impl<const NB: usize> Factors<NB> {
         for (i, bj) in bodies.iter().enumerate() {
             let o = BODY_DOF * i;
             let q_next = positions(b, if i + 1 == n { 0 } else { i + 1 });
-            let mut bz = b[o + 6] + c * bj.gq.dot(&q_self.transpose());
+            let mut bz = b[o + 6] + c * bj.creep_rate_by_position.dot(&q_self.transpose());
             let mut rv = Vector3::new(b[o + 3], b[o + 4], b[o + 5])
-                + c * (mm(&bj.aq[PREV], &q_prev)
-                    + mm(&bj.aq[SELF], &q_self)
-                    + mm(&bj.aq[NEXT], &q_next));
+                + c * (mm(&bj.accel_by_position[PREV], &q_prev)
+                    + mm(&bj.accel_by_position[SELF], &q_self)
+                    + mm(&bj.accel_by_position[NEXT], &q_next));
             if bj.touching != 0 {
                 if let Some(a) = arm_bodies.get(i) {
                     for (j, s) in view.arm_slots().iter().enumerate() {
                         if s.is_some() && bj.touching & (1 << j) != 0 {
-                            bz += c * a.ga[j] * b_arm[j];
-                            rv += (c * b_arm[j]) * a.aa[j];
+                            bz += c * a.creep_rate_by_arm_angle[j] * b_arm[j];
+                            rv += (c * b_arm[j]) * a.accel_by_arm_angle[j];
                         }
                     }
                 }
             }
             bz_s[i] = bz;
-            rv += (c * bz) * bj.az;
+            rv += (c * bz) * bj.accel_by_creep;
             if bj.touching != 0 {
                 for (j, s) in view.slots().iter().enumerate() {
                     if let Some(k) = *s {
                         if bj.touching & (1 << j) != 0 {
-                            rw[k] += c * (bj.pq[j].dot(&q_self.transpose()) + bj.pz[j] * bz);
+                            rw[k] += c
+                                * (bj.pulley_accel_by_position[j].dot(&q_self.transpose())
+                                    + bj.pulley_accel_by_creep[j] * bz);
                         }
                     }
                 }
@@ -647,7 +686,9 @@ impl<const NB: usize> Factors<NB> {
                     for (j, s) in view.arm_slots().iter().enumerate() {
                         if let Some(k) = *s {
                             if bj.touching & (1 << j) != 0 {
-                                rw[k] += c * (a.rq[j].dot(&q_self.transpose()) + a.rz[j] * bz);
+                                rw[k] += c
+                                    * (a.arm_accel_by_position[j].dot(&q_self.transpose())
+                                        + a.arm_accel_by_creep[j] * bz);
                             }
                         }
                     }
@@ -712,8 +753,8 @@ impl<const NB: usize> Factors<NB> {
             let gv = self.dec_ainv[j] * Vector2::new(b[o], b[o + 1]);
             *g = gv;
             if let Some(k) = view.slot[j] {
-                let d = &jac.dec[j];
-                rw[k] += c * (d.ht * gv[0] + d.hr * gv[1]);
+                let d = &jac.decouplers[j];
+                rw[k] += c * (d.hub_accel_by_twist * gv[0] + d.hub_accel_by_rotor_speed * gv[1]);
             }
         }
         let xb = self.border_solve(&rw);

@@ -86,16 +86,16 @@ impl BeltSystem {
             };
             {
                 let bp = &mut jac.bodies[p];
-                bp.aq[SELF] += blk(&kq, 0, 0);
-                bp.av[SELF] += blk(&kv, 0, 0);
-                bp.aq[NEXT] += blk(&kq, 0, 3);
-                bp.av[NEXT] += blk(&kv, 0, 3);
+                bp.accel_by_position[SELF] += blk(&kq, 0, 0);
+                bp.accel_by_velocity[SELF] += blk(&kv, 0, 0);
+                bp.accel_by_position[NEXT] += blk(&kq, 0, 3);
+                bp.accel_by_velocity[NEXT] += blk(&kv, 0, 3);
             }
             let bc = &mut jac.bodies[k];
-            bc.aq[SELF] += blk(&kq, 3, 3);
-            bc.av[SELF] += blk(&kv, 3, 3);
-            bc.aq[PREV] += blk(&kq, 3, 0);
-            bc.av[PREV] += blk(&kv, 3, 0);
+            bc.accel_by_position[SELF] += blk(&kq, 3, 3);
+            bc.accel_by_velocity[SELF] += blk(&kv, 3, 3);
+            bc.accel_by_position[PREV] += blk(&kq, 3, 0);
+            bc.accel_by_velocity[PREV] += blk(&kv, 3, 0);
         }
     }
 
@@ -108,7 +108,7 @@ impl BeltSystem {
         if damping != 0.0 {
             for b in jac.bodies.iter_mut() {
                 for r in 0..3 {
-                    b.av[SELF][(r, r)] -= damping;
+                    b.accel_by_velocity[SELF][(r, r)] -= damping;
                 }
             }
         }
@@ -119,9 +119,9 @@ impl BeltSystem {
                 let o = BODY_DOF * i;
                 let (d_v, d_phi) = transverse.partials(y[o + 2], [y[o + 3], y[o + 4]]);
                 for r in 0..2 {
-                    b.aq[SELF][(r, 2)] += d_phi[r];
+                    b.accel_by_position[SELF][(r, 2)] += d_phi[r];
                     for c in 0..2 {
-                        b.av[SELF][(r, c)] += d_v[r][c];
+                        b.accel_by_velocity[SELF][(r, c)] += d_v[r][c];
                     }
                 }
             }

@@ -35,18 +35,18 @@ impl BeltSystem {
             let b = &mut jac.bodies[i];
             // reset what this evaluation accumulates into or may leave
             // unset; the entries of pulleys j >= np stay zero from `new`
-            b.aq = Default::default();
-            b.av = Default::default();
-            b.az = Vector3::zeros();
-            b.gq = RowVector3::zeros();
-            b.gv = RowVector3::zeros();
+            b.accel_by_position = Default::default();
+            b.accel_by_velocity = Default::default();
+            b.accel_by_creep = Vector3::zeros();
+            b.creep_rate_by_position = RowVector3::zeros();
+            b.creep_rate_by_velocity = RowVector3::zeros();
             b.touching = 0;
             for j in 0..np {
-                b.aw[j] = Vector3::zeros();
-                b.gw[j] = 0.0;
-                b.pq[j] = RowVector3::zeros();
-                b.pv[j] = RowVector3::zeros();
-                b.pz[j] = 0.0;
+                b.accel_by_pulley_speed[j] = Vector3::zeros();
+                b.creep_rate_by_pulley_speed[j] = 0.0;
+                b.pulley_accel_by_position[j] = RowVector3::zeros();
+                b.pulley_accel_by_velocity[j] = RowVector3::zeros();
+                b.pulley_accel_by_creep[j] = 0.0;
             }
             for c in &mut jac.impulse[i][..np] {
                 *c = ImpulseColumns::default();
@@ -89,7 +89,7 @@ impl BeltSystem {
                 );
                 let creeping = friction.creep_rate_slope(kin.v_t, z) != 0.0;
                 if pc.arm.is_some() {
-                    let arm_rows = (&mut jac.arm_bodies[i], &mut jac.arm[j]);
+                    let arm_rows = (&mut jac.arm_bodies[i], &mut jac.arms[j]);
                     self.centre_contact_arm(
                         pc,
                         j,
@@ -105,51 +105,53 @@ impl BeltSystem {
                 fq += cp.f_x;
                 fv += cp.f_v;
                 let tau = kin.t;
-                b.az[0] += tau[0] * cp.fric_z * inv_m;
-                b.az[1] += tau[1] * cp.fric_z * inv_m;
+                b.accel_by_creep[0] += tau[0] * cp.fric_z * inv_m;
+                b.accel_by_creep[1] += tau[1] * cp.fric_z * inv_m;
                 let free = !pc.speed_driven;
                 if free {
-                    b.aw[j][0] += tau[0] * cp.fric_w * inv_m;
-                    b.aw[j][1] += tau[1] * cp.fric_w * inv_m;
+                    b.accel_by_pulley_speed[j][0] += tau[0] * cp.fric_w * inv_m;
+                    b.accel_by_pulley_speed[j][1] += tau[1] * cp.fric_w * inv_m;
                 }
                 // creep rate dz/dt = v_T, frozen at the cap while pushed outward
                 if creeping {
-                    b.gq[0] += cp.vt_x[0];
-                    b.gq[1] += cp.vt_x[1];
-                    b.gv[0] += cp.vt_v[0];
-                    b.gv[1] += cp.vt_v[1];
+                    b.creep_rate_by_position[0] += cp.vt_x[0];
+                    b.creep_rate_by_position[1] += cp.vt_x[1];
+                    b.creep_rate_by_velocity[0] += cp.vt_v[0];
+                    b.creep_rate_by_velocity[1] += cp.vt_v[1];
                     if free {
-                        b.gw[j] += pc.lever;
+                        b.creep_rate_by_pulley_speed[j] += pc.lever;
                     }
                 }
                 // impulse rows: belt torque -r f, hub force -(N n + f t)
                 let r = pc.lever;
                 let tv2 = Vector2::new(tau[0], tau[1]);
                 jac.impulse[i][j] = ImpulseColumns {
-                    tq: RowVector3::new(-r * cp.fric_x[0], -r * cp.fric_x[1], 0.0),
-                    tv: RowVector3::new(-r * cp.fric_v[0], -r * cp.fric_v[1], 0.0),
-                    tz: -r * cp.fric_z,
-                    hq: hub_row(&cp.f_x),
-                    hv: hub_row(&cp.f_v),
-                    hz: -cp.fric_z * tv2,
+                    torque_by_position: RowVector3::new(-r * cp.fric_x[0], -r * cp.fric_x[1], 0.0),
+                    torque_by_velocity: RowVector3::new(-r * cp.fric_v[0], -r * cp.fric_v[1], 0.0),
+                    torque_by_creep: -r * cp.fric_z,
+                    hub_by_position: hub_row(&cp.f_x),
+                    hub_by_velocity: hub_row(&cp.f_v),
+                    hub_by_creep: -cp.fric_z * tv2,
                 };
                 if free {
-                    jac.tw[j] += -r * cp.fric_w;
-                    jac.hw[j] += -cp.fric_w * tv2;
+                    jac.torque_by_pulley_speed[j] += -r * cp.fric_w;
+                    jac.hub_by_pulley_speed[j] += -cp.fric_w * tv2;
                 }
                 // pulley torque -r f on the pulley's acceleration (eq. 24)
                 if free {
                     let k = -pc.lever * pc.balance_partials().1;
-                    b.pq[j] = RowVector3::new(k * cp.fric_x[0], k * cp.fric_x[1], 0.0);
-                    b.pv[j] = RowVector3::new(k * cp.fric_v[0], k * cp.fric_v[1], 0.0);
-                    b.pz[j] = k * cp.fric_z;
-                    jac.pw[j][j] += k * cp.fric_w;
+                    b.pulley_accel_by_position[j] =
+                        RowVector3::new(k * cp.fric_x[0], k * cp.fric_x[1], 0.0);
+                    b.pulley_accel_by_velocity[j] =
+                        RowVector3::new(k * cp.fric_v[0], k * cp.fric_v[1], 0.0);
+                    b.pulley_accel_by_creep[j] = k * cp.fric_z;
+                    jac.pulley_accel_by_pulley_speed[j][j] += k * cp.fric_w;
                 }
             }
             for r in 0..2 {
                 for c in 0..2 {
-                    b.aq[SELF][(r, c)] += fq[(r, c)] * inv_m;
-                    b.av[SELF][(r, c)] += fv[(r, c)] * inv_m;
+                    b.accel_by_position[SELF][(r, c)] += fq[(r, c)] * inv_m;
+                    b.accel_by_velocity[SELF][(r, c)] += fv[(r, c)] * inv_m;
                 }
             }
         }
@@ -185,31 +187,34 @@ impl BeltSystem {
         let f_a = -mm(&cp.f_x, &dc) - mm(&cp.f_v, &ddc);
         let f_r = -mm(&cp.f_v, &dc);
         let tau = Vector2::from(kin.t);
-        ba.aa[j] = Vector3::new(f_a[0] * inv_m, f_a[1] * inv_m, 0.0);
-        ba.ar[j] = Vector3::new(f_r[0] * inv_m, f_r[1] * inv_m, 0.0);
+        ba.accel_by_arm_angle[j] = Vector3::new(f_a[0] * inv_m, f_a[1] * inv_m, 0.0);
+        ba.accel_by_arm_rate[j] = Vector3::new(f_r[0] * inv_m, f_r[1] * inv_m, 0.0);
         if creeping {
-            ba.ga[j] = -(cp.vt_x.dot(&dc.transpose()) + cp.vt_v.dot(&ddc.transpose()));
-            ba.gr[j] = -cp.vt_v.dot(&dc.transpose());
+            ba.creep_rate_by_arm_angle[j] =
+                -(cp.vt_x.dot(&dc.transpose()) + cp.vt_v.dot(&ddc.transpose()));
+            ba.creep_rate_by_arm_rate[j] = -cp.vt_v.dot(&dc.transpose());
         }
         let lq = -mm(&dc.transpose(), &cp.f_x) * inv;
         let lv = -mm(&dc.transpose(), &cp.f_v) * inv;
-        ba.rq[j] = RowVector3::new(lq[0], lq[1], 0.0);
-        ba.rv[j] = RowVector3::new(lv[0], lv[1], 0.0);
-        ba.rz[j] = -dc.dot(&tau) * cp.fric_z * inv;
-        aj.aa -= dc.dot(&f_a) * inv;
-        aj.ar -= dc.dot(&f_r) * inv;
+        ba.arm_accel_by_position[j] = RowVector3::new(lq[0], lq[1], 0.0);
+        ba.arm_accel_by_velocity[j] = RowVector3::new(lv[0], lv[1], 0.0);
+        ba.arm_accel_by_creep[j] = -dc.dot(&tau) * cp.fric_z * inv;
+        aj.arm_accel_by_angle -= dc.dot(&f_a) * inv;
+        aj.arm_accel_by_rate -= dc.dot(&f_r) * inv;
         // impulse rows: the belt torque -r f and the hub force
         // -F through the moving centre
-        aj.ta += pc.lever * (cp.fric_x.dot(&dc.transpose()) + cp.fric_v.dot(&ddc.transpose()));
-        aj.tr += pc.lever * cp.fric_v.dot(&dc.transpose());
-        aj.fa -= f_a;
-        aj.fr -= f_r;
+        aj.torque_by_arm_angle +=
+            pc.lever * (cp.fric_x.dot(&dc.transpose()) + cp.fric_v.dot(&ddc.transpose()));
+        aj.torque_by_arm_rate += pc.lever * cp.fric_v.dot(&dc.transpose());
+        aj.hub_by_arm_angle -= f_a;
+        aj.hub_by_arm_rate -= f_r;
         if !pc.speed_driven {
-            aj.aw -= dc.dot(&tau) * cp.fric_w * inv;
+            aj.arm_accel_by_pulley_speed -= dc.dot(&tau) * cp.fric_w * inv;
             // the pulley's torque -r_c f through the moving centre
             let k = -pc.lever * pc.balance_partials().1;
-            aj.pa -= k * (cp.fric_x.dot(&dc.transpose()) + cp.fric_v.dot(&ddc.transpose()));
-            aj.pr -= k * cp.fric_v.dot(&dc.transpose());
+            aj.pulley_accel_by_arm_angle -=
+                k * (cp.fric_x.dot(&dc.transpose()) + cp.fric_v.dot(&ddc.transpose()));
+            aj.pulley_accel_by_arm_rate -= k * cp.fric_v.dot(&dc.transpose());
         }
     }
 
@@ -293,33 +298,33 @@ impl BeltSystem {
                 let aq = acc(Vector2::new(fq[0], fq[1]), d.moment_q[c]);
                 let au = acc(Vector2::new(fu[0], fu[1]), d.moment_u[c]);
                 for r in 0..3 {
-                    b.aq[SELF][(r, c)] += aq[r];
-                    b.av[SELF][(r, c)] += au[r];
+                    b.accel_by_position[SELF][(r, c)] += aq[r];
+                    b.accel_by_velocity[SELF][(r, c)] += au[r];
                 }
             }
-            b.az += acc(d.force_z, d.moment_z);
-            b.gq += d.creep_q;
-            b.gv += d.creep_u;
+            b.accel_by_creep += acc(d.force_z, d.moment_z);
+            b.creep_rate_by_position += d.creep_q;
+            b.creep_rate_by_velocity += d.creep_u;
             // impulse rows: belt torque -sum lever f, hub force -F
             jac.impulse[i][j] = ImpulseColumns {
-                tq: -d.torque_q,
-                tv: -d.torque_u,
-                tz: -d.torque_z,
-                hq: -d.force_q,
-                hv: -d.force_u,
-                hz: -d.force_z,
+                torque_by_position: -d.torque_q,
+                torque_by_velocity: -d.torque_u,
+                torque_by_creep: -d.torque_z,
+                hub_by_position: -d.force_q,
+                hub_by_velocity: -d.force_u,
+                hub_by_creep: -d.force_z,
             };
             let k = -pc.balance_partials().1;
             if free {
-                b.aw[j] += acc(d.force_w, d.moment_w);
-                b.gw[j] += d.creep_w;
-                jac.tw[j] -= d.torque_w;
-                jac.hw[j] -= d.force_w;
+                b.accel_by_pulley_speed[j] += acc(d.force_w, d.moment_w);
+                b.creep_rate_by_pulley_speed[j] += d.creep_w;
+                jac.torque_by_pulley_speed[j] -= d.torque_w;
+                jac.hub_by_pulley_speed[j] -= d.force_w;
                 // the pulley's acceleration through its belt torque (eq. 24)
-                b.pq[j] = k * d.torque_q;
-                b.pv[j] = k * d.torque_u;
-                b.pz[j] = k * d.torque_z;
-                jac.pw[j][j] += k * d.torque_w;
+                b.pulley_accel_by_position[j] = k * d.torque_q;
+                b.pulley_accel_by_velocity[j] = k * d.torque_u;
+                b.pulley_accel_by_creep[j] = k * d.torque_z;
+                jac.pulley_accel_by_pulley_speed[j][j] += k * d.torque_w;
             }
             if pc.arm.is_some() {
                 // the contact sees x - c(alpha) and v - c'(alpha) alpha':
@@ -334,26 +339,26 @@ impl BeltSystem {
                 let m_a = -dot2(&d.moment_q, &dc) - dot2(&d.moment_u, &ddc);
                 let m_r = -dot2(&d.moment_u, &dc);
                 let ba = &mut jac.arm_bodies[i];
-                ba.aa[j] = acc(f_a, m_a);
-                ba.ar[j] = acc(f_r, m_r);
-                ba.ga[j] = -(dot2(&d.creep_q, &dc) + dot2(&d.creep_u, &ddc));
-                ba.gr[j] = -dot2(&d.creep_u, &dc);
-                ba.rq[j] = -mm(&dc.transpose(), &d.force_q) * inv;
-                ba.rv[j] = -mm(&dc.transpose(), &d.force_u) * inv;
-                ba.rz[j] = -dc.dot(&d.force_z) * inv;
-                let aj = &mut jac.arm[j];
-                aj.aa -= dc.dot(&f_a) * inv;
-                aj.ar -= dc.dot(&f_r) * inv;
+                ba.accel_by_arm_angle[j] = acc(f_a, m_a);
+                ba.accel_by_arm_rate[j] = acc(f_r, m_r);
+                ba.creep_rate_by_arm_angle[j] = -(dot2(&d.creep_q, &dc) + dot2(&d.creep_u, &ddc));
+                ba.creep_rate_by_arm_rate[j] = -dot2(&d.creep_u, &dc);
+                ba.arm_accel_by_position[j] = -mm(&dc.transpose(), &d.force_q) * inv;
+                ba.arm_accel_by_velocity[j] = -mm(&dc.transpose(), &d.force_u) * inv;
+                ba.arm_accel_by_creep[j] = -dc.dot(&d.force_z) * inv;
+                let aj = &mut jac.arms[j];
+                aj.arm_accel_by_angle -= dc.dot(&f_a) * inv;
+                aj.arm_accel_by_rate -= dc.dot(&f_r) * inv;
                 let t_a = dot2(&d.torque_q, &dc) + dot2(&d.torque_u, &ddc);
                 let t_r = dot2(&d.torque_u, &dc);
-                aj.ta += t_a;
-                aj.tr += t_r;
-                aj.fa -= f_a;
-                aj.fr -= f_r;
+                aj.torque_by_arm_angle += t_a;
+                aj.torque_by_arm_rate += t_r;
+                aj.hub_by_arm_angle -= f_a;
+                aj.hub_by_arm_rate -= f_r;
                 if free {
-                    aj.aw -= dc.dot(&d.force_w) * inv;
-                    aj.pa -= k * t_a;
-                    aj.pr -= k * t_r;
+                    aj.arm_accel_by_pulley_speed -= dc.dot(&d.force_w) * inv;
+                    aj.pulley_accel_by_arm_angle -= k * t_a;
+                    aj.pulley_accel_by_arm_rate -= k * t_r;
                 }
             }
         }

@@ -51,27 +51,27 @@ use nalgebra::{Matrix2x3, Matrix3, RowVector3, Vector2, Vector3};
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct BodyJacobian {
     /// d(acceleration)/d(position) of body i-1, i, i+1.
-    pub aq: [Matrix3<f64>; 3],
+    pub(crate) accel_by_position: [Matrix3<f64>; 3],
     /// d(acceleration)/d(velocity) of body i-1, i, i+1.
-    pub av: [Matrix3<f64>; 3],
+    pub(crate) accel_by_velocity: [Matrix3<f64>; 3],
     /// d(acceleration)/dz (own creep).
-    pub az: Vector3<f64>,
+    pub(crate) accel_by_creep: Vector3<f64>,
     /// d(acceleration)/d(pulley speed j).
-    pub aw: [Vector3<f64>; MAX_PULLEYS],
-    /// dz'/d(own position), dz'/d(own velocity), dz'/d(pulley speed j).
-    pub gq: RowVector3<f64>,
+    pub(crate) accel_by_pulley_speed: [Vector3<f64>; MAX_PULLEYS],
+    /// dz'/d(own position).
+    pub(crate) creep_rate_by_position: RowVector3<f64>,
     /// dz'/d(own velocity).
-    pub gv: RowVector3<f64>,
+    pub(crate) creep_rate_by_velocity: RowVector3<f64>,
     /// dz'/d(pulley speed j).
-    pub gw: [f64; MAX_PULLEYS],
-    /// d(pulley j acceleration)/d(this body's position, velocity, z).
-    pub pq: [RowVector3<f64>; MAX_PULLEYS],
+    pub(crate) creep_rate_by_pulley_speed: [f64; MAX_PULLEYS],
+    /// d(pulley j acceleration)/d(this body's position).
+    pub(crate) pulley_accel_by_position: [RowVector3<f64>; MAX_PULLEYS],
     /// d(pulley j acceleration)/d(this body's velocity).
-    pub pv: [RowVector3<f64>; MAX_PULLEYS],
+    pub(crate) pulley_accel_by_velocity: [RowVector3<f64>; MAX_PULLEYS],
     /// d(pulley j acceleration)/d(this body's z).
-    pub pz: [f64; MAX_PULLEYS],
+    pub(crate) pulley_accel_by_creep: [f64; MAX_PULLEYS],
     /// Bit j set: the body touches pulley j (only those entries are non-zero).
-    pub touching: u8,
+    pub(crate) touching: u8,
 }
 
 /// One body's columns in the impulse rows of one pulley (its belt torque
@@ -82,50 +82,50 @@ pub struct BodyJacobian {
 /// (docs/benchmarks.md).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ImpulseColumns {
-    /// d(belt torque on the pulley)/d(this body's position, velocity, z):
+    /// d(belt torque on the pulley)/d(this body's position):
     /// the belt-torque impulse's row (all pulleys, speed-driven too).
-    pub tq: RowVector3<f64>,
+    pub(crate) torque_by_position: RowVector3<f64>,
     /// d(belt torque on the pulley)/d(this body's velocity).
-    pub tv: RowVector3<f64>,
+    pub(crate) torque_by_velocity: RowVector3<f64>,
     /// d(belt torque on the pulley)/d(this body's z).
-    pub tz: f64,
-    /// d(force on the pulley's hub)/d(this body's position, velocity, z):
+    pub(crate) torque_by_creep: f64,
+    /// d(force on the pulley's hub)/d(this body's position):
     /// the hub-force impulse's rows.
-    pub hq: Matrix2x3<f64>,
+    pub(crate) hub_by_position: Matrix2x3<f64>,
     /// d(force on the pulley's hub)/d(this body's velocity).
-    pub hv: Matrix2x3<f64>,
+    pub(crate) hub_by_velocity: Matrix2x3<f64>,
     /// d(force on the pulley's hub)/d(this body's z).
-    pub hz: Vector2<f64>,
+    pub(crate) hub_by_creep: Vector2<f64>,
 }
 
 /// Derivatives of a decoupler's rows (twist rate, rotor acceleration) and
 /// of its hub's acceleration with respect to twist, hub speed and rotor
 /// speed (`elements::decoupler`). The hub's own d(alpha)/d(omega_hub) term
-/// is in `Jacobian::pw`. Zero where the hub is speed-driven (its speed is
-/// then an input, its acceleration prescribed).
+/// is in `Jacobian::pulley_accel_by_pulley_speed`. Zero where the hub is
+/// speed-driven (its speed is then an input, its acceleration prescribed).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct DecouplerJacobian {
-    /// d(twist')/d(twist, omega_hub, omega_rotor).
-    pub tt: f64,
+    /// d(twist')/d(twist).
+    pub(crate) twist_rate_by_twist: f64,
     /// d(twist')/d(omega_hub).
-    pub th: f64,
+    pub(crate) twist_rate_by_hub_speed: f64,
     /// d(twist')/d(omega_rotor).
-    pub tr: f64,
-    /// d(rotor alpha)/d(twist, omega_hub, omega_rotor).
-    pub rt: f64,
+    pub(crate) twist_rate_by_rotor_speed: f64,
+    /// d(rotor alpha)/d(twist).
+    pub(crate) rotor_accel_by_twist: f64,
     /// d(rotor alpha)/d(omega_hub).
-    pub rh: f64,
+    pub(crate) rotor_accel_by_hub_speed: f64,
     /// d(rotor alpha)/d(omega_rotor).
-    pub rr: f64,
-    /// d(hub alpha)/d(twist, omega_rotor).
-    pub ht: f64,
+    pub(crate) rotor_accel_by_rotor_speed: f64,
+    /// d(hub alpha)/d(twist).
+    pub(crate) hub_accel_by_twist: f64,
     /// d(hub alpha)/d(omega_rotor).
-    pub hr: f64,
-    /// d(drive torque)/d(twist, omega_rotor) of a speed-driven hub (the
+    pub(crate) hub_accel_by_rotor_speed: f64,
+    /// d(drive torque)/d(twist) of a speed-driven hub (the
     /// drive-torque impulse's row; zero on a torque-driven hub).
-    pub dt: f64,
+    pub(crate) drive_torque_by_twist: f64,
     /// d(drive torque)/d(omega_rotor).
-    pub dr: f64,
+    pub(crate) drive_torque_by_rotor_speed: f64,
 }
 
 /// Derivatives of a tensioner arm's rate row (arm acceleration) with
@@ -136,25 +136,25 @@ pub struct DecouplerJacobian {
 /// d(angle)/dt = rate.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ArmJacobian {
-    /// d(arm acceleration)/d(angle, rate, pulley speed).
-    pub aa: f64,
+    /// d(arm acceleration)/d(arm angle).
+    pub(crate) arm_accel_by_angle: f64,
     /// d(arm acceleration)/d(rate).
-    pub ar: f64,
+    pub(crate) arm_accel_by_rate: f64,
     /// d(arm acceleration)/d(pulley speed).
-    pub aw: f64,
-    /// d(pulley acceleration)/d(arm angle, arm rate).
-    pub pa: f64,
+    pub(crate) arm_accel_by_pulley_speed: f64,
+    /// d(pulley acceleration)/d(arm angle).
+    pub(crate) pulley_accel_by_arm_angle: f64,
     /// d(pulley acceleration)/d(arm rate).
-    pub pr: f64,
-    /// d(belt torque on the pulley)/d(arm angle, arm rate) and d(force on its
-    /// hub)/d(arm angle, arm rate): the impulse rows' arm columns.
-    pub ta: f64,
+    pub(crate) pulley_accel_by_arm_rate: f64,
+    /// d(belt torque on the pulley)/d(arm angle): the impulse rows' arm
+    /// columns.
+    pub(crate) torque_by_arm_angle: f64,
     /// d(belt torque on the pulley)/d(arm rate).
-    pub tr: f64,
+    pub(crate) torque_by_arm_rate: f64,
     /// d(force on the hub)/d(arm angle).
-    pub fa: Vector2<f64>,
+    pub(crate) hub_by_arm_angle: Vector2<f64>,
     /// d(force on the hub)/d(arm rate).
-    pub fr: Vector2<f64>,
+    pub(crate) hub_by_arm_rate: Vector2<f64>,
 }
 
 /// How one body's rows and a tensioner arm's row depend on each other,
@@ -162,62 +162,62 @@ pub struct ArmJacobian {
 /// an arm): the contact sees the body relative to the moving centre.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct BodyArmJacobian {
-    /// d(acceleration)/d(arm angle), d(acceleration)/d(arm rate).
-    pub aa: [Vector3<f64>; MAX_PULLEYS],
+    /// d(acceleration)/d(arm angle).
+    pub(crate) accel_by_arm_angle: [Vector3<f64>; MAX_PULLEYS],
     /// d(acceleration)/d(arm rate).
-    pub ar: [Vector3<f64>; MAX_PULLEYS],
-    /// dz'/d(arm angle), dz'/d(arm rate).
-    pub ga: [f64; MAX_PULLEYS],
+    pub(crate) accel_by_arm_rate: [Vector3<f64>; MAX_PULLEYS],
+    /// dz'/d(arm angle).
+    pub(crate) creep_rate_by_arm_angle: [f64; MAX_PULLEYS],
     /// dz'/d(arm rate).
-    pub gr: [f64; MAX_PULLEYS],
-    /// d(arm acceleration)/d(this body's position, velocity, z).
-    pub rq: [RowVector3<f64>; MAX_PULLEYS],
+    pub(crate) creep_rate_by_arm_rate: [f64; MAX_PULLEYS],
+    /// d(arm acceleration)/d(this body's position).
+    pub(crate) arm_accel_by_position: [RowVector3<f64>; MAX_PULLEYS],
     /// d(arm acceleration)/d(this body's velocity).
-    pub rv: [RowVector3<f64>; MAX_PULLEYS],
+    pub(crate) arm_accel_by_velocity: [RowVector3<f64>; MAX_PULLEYS],
     /// d(arm acceleration)/d(this body's z).
-    pub rz: [f64; MAX_PULLEYS],
+    pub(crate) arm_accel_by_creep: [f64; MAX_PULLEYS],
 }
 
 /// Block Jacobian of the whole belt drive.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Jacobian {
     /// Per body, its rows.
-    pub bodies: Vec<BodyJacobian>,
+    pub(crate) bodies: Vec<BodyJacobian>,
     /// Per body, its columns in the impulse rows of pulley j.
-    pub impulse: Vec<[ImpulseColumns; MAX_PULLEYS]>,
+    pub(crate) impulse: Vec<[ImpulseColumns; MAX_PULLEYS]>,
     /// d(pulley j acceleration)/d(pulley speed k), torque-driven pulleys.
-    pub pw: [[f64; MAX_PULLEYS]; MAX_PULLEYS],
+    pub(crate) pulley_accel_by_pulley_speed: [[f64; MAX_PULLEYS]; MAX_PULLEYS],
     /// Pulley j's speed is a state (torque-driven) rather than an input.
-    pub free: [bool; MAX_PULLEYS],
+    pub(crate) free: [bool; MAX_PULLEYS],
     /// Decoupler of pulley j (zero if it has none).
-    pub dec: [DecouplerJacobian; MAX_PULLEYS],
-    /// d(belt torque on pulley j)/d(omega_j) and d(hub force j)/d(omega_j),
-    /// torque-driven pulleys (a speed-driven pulley's speed is an input).
-    pub tw: [f64; MAX_PULLEYS],
+    pub(crate) decouplers: [DecouplerJacobian; MAX_PULLEYS],
+    /// d(belt torque on pulley j)/d(omega_j), torque-driven pulleys (a
+    /// speed-driven pulley's speed is an input).
+    pub(crate) torque_by_pulley_speed: [f64; MAX_PULLEYS],
     /// d(hub force j)/d(omega_j).
-    pub hw: [Vector2<f64>; MAX_PULLEYS],
+    pub(crate) hub_by_pulley_speed: [Vector2<f64>; MAX_PULLEYS],
     /// The input power's row (the `energy.input` accumulator): per pulley
     /// the prescribed speed a speed-driven pulley's drive torque is
     /// multiplied with (0 for a torque-driven pulley).
-    pub power_speed: [f64; MAX_PULLEYS],
+    pub(crate) power_speed: [f64; MAX_PULLEYS],
     /// The applied torque multiplying the speed of a torque-driven pulley
     /// (of the rotor behind a decoupler) in the input power's row.
-    pub power_applied: [f64; MAX_PULLEYS],
+    pub(crate) power_applied: [f64; MAX_PULLEYS],
     /// Tensioner arm of pulley j (zero if it has none).
-    pub arm: [ArmJacobian; MAX_PULLEYS],
+    pub(crate) arms: [ArmJacobian; MAX_PULLEYS],
     /// Per body, its coupling with the arms (empty in a drive without arms).
-    pub arm_bodies: Vec<BodyArmJacobian>,
+    pub(crate) arm_bodies: Vec<BodyArmJacobian>,
     /// The drive's pulley count: the slots past it stay zero and are not
     /// saved.
     slots: usize,
 }
 
-/// Index of the neighbour blocks in `aq`/`av`.
-pub const PREV: usize = 0;
-/// Index of the body's own block in `aq`/`av`.
-pub const SELF: usize = 1;
-/// Index of the next body's block in `aq`/`av`.
-pub const NEXT: usize = 2;
+/// Index of the neighbour blocks in `accel_by_position`/`accel_by_velocity`.
+pub(crate) const PREV: usize = 0;
+/// Index of the body's own block in `accel_by_position`/`accel_by_velocity`.
+pub(crate) const SELF: usize = 1;
+/// Index of the next body's block in `accel_by_position`/`accel_by_velocity`.
+pub(crate) const NEXT: usize = 2;
 
 #[inline(always)]
 fn perp(h: Vector2<f64>) -> Vector2<f64> {
@@ -257,9 +257,9 @@ impl BeltSystem {
         for (j, w) in omega_p.iter_mut().enumerate().take(np) {
             *w = self.pulley_speed(j, t, y);
         }
-        jac.pw = [[0.0; MAX_PULLEYS]; MAX_PULLEYS];
-        jac.tw = [0.0; MAX_PULLEYS];
-        jac.hw = [Vector2::zeros(); MAX_PULLEYS];
+        jac.pulley_accel_by_pulley_speed = [[0.0; MAX_PULLEYS]; MAX_PULLEYS];
+        jac.torque_by_pulley_speed = [0.0; MAX_PULLEYS];
+        jac.hub_by_pulley_speed = [Vector2::zeros(); MAX_PULLEYS];
         let mut buf = None;
         let pulleys = self.pulleys_in_effect(&mut buf);
         // pulley centres and velocities; per arm: c'(alpha), c''(alpha)
@@ -272,7 +272,7 @@ impl BeltSystem {
         for j in 0..np {
             let (c, vc) = self.pulley_centre(j, y);
             centre[j] = [c[0], c[1], vc[0], vc[1]];
-            jac.arm[j] = ArmJacobian::default();
+            jac.arms[j] = ArmJacobian::default();
             let pc = &self.pulleys[j];
             if let Some(arm) = &pc.arm {
                 let (a, w) = (y[pc.arm_offset], y[pc.arm_offset + 1]);

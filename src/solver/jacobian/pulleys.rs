@@ -23,7 +23,7 @@ impl BeltSystem {
             let pc = &pulleys[j];
             let Some(dc) = &pc.decoupler else {
                 if !pc.speed_driven {
-                    jac.pw[j][j] += pc.balance_partials().0;
+                    jac.pulley_accel_by_pulley_speed[j][j] += pc.balance_partials().0;
                 }
                 continue;
             };
@@ -35,20 +35,20 @@ impl BeltSystem {
             // the hub's torque is -s M, the rotor's +s M
             let free = if pc.speed_driven { 0.0 } else { 1.0 };
             let inv_r = pc.rotor_inv_inertia;
-            jac.dec[j] = DecouplerJacobian {
-                tt: law.rate_d_twist,
-                th: free * law.rate_d_rate * s,
-                tr: -law.rate_d_rate * s,
-                rt: s * law.torque_d_twist * inv_r,
-                rh: free * law.torque_d_rate * inv_r,
-                rr: (-law.torque_d_rate - pc.load_damping) * inv_r,
-                ht: free * -s * law.torque_d_twist * pc.inv_inertia,
-                hr: free * law.torque_d_rate * pc.inv_inertia,
-                dt: (1.0 - free) * s * law.torque_d_twist,
-                dr: (1.0 - free) * -law.torque_d_rate,
+            jac.decouplers[j] = DecouplerJacobian {
+                twist_rate_by_twist: law.rate_d_twist,
+                twist_rate_by_hub_speed: free * law.rate_d_rate * s,
+                twist_rate_by_rotor_speed: -law.rate_d_rate * s,
+                rotor_accel_by_twist: s * law.torque_d_twist * inv_r,
+                rotor_accel_by_hub_speed: free * law.torque_d_rate * inv_r,
+                rotor_accel_by_rotor_speed: (-law.torque_d_rate - pc.load_damping) * inv_r,
+                hub_accel_by_twist: free * -s * law.torque_d_twist * pc.inv_inertia,
+                hub_accel_by_rotor_speed: free * law.torque_d_rate * pc.inv_inertia,
+                drive_torque_by_twist: (1.0 - free) * s * law.torque_d_twist,
+                drive_torque_by_rotor_speed: (1.0 - free) * -law.torque_d_rate,
             };
             if !pc.speed_driven {
-                jac.pw[j][j] -= law.torque_d_rate * pc.inv_inertia;
+                jac.pulley_accel_by_pulley_speed[j][j] -= law.torque_d_rate * pc.inv_inertia;
             }
         }
     }
@@ -72,9 +72,9 @@ impl BeltSystem {
             let (a, w) = (y[pc.arm_offset], y[pc.arm_offset + 1]);
             let own = arm.torque(a, w);
             let inv = inv_arm[j];
-            let aj = &mut jac.arm[j];
-            aj.aa += (own.d_angle + arm.moment(a, hub_force[j]).1) * inv;
-            aj.ar += own.d_rate * inv;
+            let aj = &mut jac.arms[j];
+            aj.arm_accel_by_angle += (own.d_angle + arm.moment(a, hub_force[j]).1) * inv;
+            aj.arm_accel_by_rate += own.d_rate * inv;
         }
     }
 }

@@ -20,14 +20,14 @@ impl Jacobian {
         Self {
             bodies: vec![BodyJacobian::default(); sys.n],
             impulse: vec![[ImpulseColumns::default(); MAX_PULLEYS]; sys.n],
-            pw: [[0.0; MAX_PULLEYS]; MAX_PULLEYS],
+            pulley_accel_by_pulley_speed: [[0.0; MAX_PULLEYS]; MAX_PULLEYS],
             free,
-            dec: [DecouplerJacobian::default(); MAX_PULLEYS],
-            tw: [0.0; MAX_PULLEYS],
-            hw: [Vector2::zeros(); MAX_PULLEYS],
+            decouplers: [DecouplerJacobian::default(); MAX_PULLEYS],
+            torque_by_pulley_speed: [0.0; MAX_PULLEYS],
+            hub_by_pulley_speed: [Vector2::zeros(); MAX_PULLEYS],
             power_speed: [0.0; MAX_PULLEYS],
             power_applied: [0.0; MAX_PULLEYS],
-            arm: [ArmJacobian::default(); MAX_PULLEYS],
+            arms: [ArmJacobian::default(); MAX_PULLEYS],
             arm_bodies: if sys.n_arms > 0 {
                 vec![BodyArmJacobian::default(); sys.n]
             } else {
@@ -44,82 +44,117 @@ impl Jacobian {
         let np = self.slots;
         for (b, im) in self.bodies.iter_mut().zip(&mut self.impulse) {
             let im = &mut im[..np];
-            for m in b.aq.iter_mut().chain(b.av.iter_mut()) {
+            for m in b
+                .accel_by_position
+                .iter_mut()
+                .chain(b.accel_by_velocity.iter_mut())
+            {
                 m.iter_mut().for_each(&mut *f);
             }
-            b.az.iter_mut().for_each(&mut *f);
-            for v in &mut b.aw[..np] {
+            b.accel_by_creep.iter_mut().for_each(&mut *f);
+            for v in &mut b.accel_by_pulley_speed[..np] {
                 v.iter_mut().for_each(&mut *f);
             }
-            b.gq.iter_mut().chain(b.gv.iter_mut()).for_each(&mut *f);
-            b.gw[..np]
+            b.creep_rate_by_position
                 .iter_mut()
-                .chain(&mut b.pz[..np])
+                .chain(b.creep_rate_by_velocity.iter_mut())
                 .for_each(&mut *f);
-            for v in b.pq[..np].iter_mut().chain(&mut b.pv[..np]) {
+            b.creep_rate_by_pulley_speed[..np]
+                .iter_mut()
+                .chain(&mut b.pulley_accel_by_creep[..np])
+                .for_each(&mut *f);
+            for v in b.pulley_accel_by_position[..np]
+                .iter_mut()
+                .chain(&mut b.pulley_accel_by_velocity[..np])
+            {
                 v.iter_mut().for_each(&mut *f);
             }
             // field by field over the pulleys (the saved order)
             for c in im.iter_mut() {
-                c.tq.iter_mut().for_each(&mut *f);
+                c.torque_by_position.iter_mut().for_each(&mut *f);
             }
             for c in im.iter_mut() {
-                c.tv.iter_mut().for_each(&mut *f);
+                c.torque_by_velocity.iter_mut().for_each(&mut *f);
             }
             for c in im.iter_mut() {
-                f(&mut c.tz);
+                f(&mut c.torque_by_creep);
             }
             for c in im.iter_mut() {
-                c.hq.iter_mut().for_each(&mut *f);
+                c.hub_by_position.iter_mut().for_each(&mut *f);
             }
             for c in im.iter_mut() {
-                c.hv.iter_mut().for_each(&mut *f);
+                c.hub_by_velocity.iter_mut().for_each(&mut *f);
             }
             for c in im.iter_mut() {
-                c.hz.iter_mut().for_each(&mut *f);
+                c.hub_by_creep.iter_mut().for_each(&mut *f);
             }
             let mut touching = f64::from(b.touching);
             f(&mut touching);
             b.touching = touching as u8;
         }
-        for row in &mut self.pw[..np] {
+        for row in &mut self.pulley_accel_by_pulley_speed[..np] {
             row[..np].iter_mut().for_each(&mut *f);
         }
-        for d in &mut self.dec[..np] {
+        for d in &mut self.decouplers[..np] {
             for v in [
-                &mut d.tt, &mut d.th, &mut d.tr, &mut d.rt, &mut d.rh, &mut d.rr, &mut d.ht,
-                &mut d.hr, &mut d.dt, &mut d.dr,
+                &mut d.twist_rate_by_twist,
+                &mut d.twist_rate_by_hub_speed,
+                &mut d.twist_rate_by_rotor_speed,
+                &mut d.rotor_accel_by_twist,
+                &mut d.rotor_accel_by_hub_speed,
+                &mut d.rotor_accel_by_rotor_speed,
+                &mut d.hub_accel_by_twist,
+                &mut d.hub_accel_by_rotor_speed,
+                &mut d.drive_torque_by_twist,
+                &mut d.drive_torque_by_rotor_speed,
             ] {
                 f(v);
             }
         }
-        self.tw[..np].iter_mut().for_each(&mut *f);
+        self.torque_by_pulley_speed[..np]
+            .iter_mut()
+            .for_each(&mut *f);
         self.power_speed[..np]
             .iter_mut()
             .chain(&mut self.power_applied[..np])
             .for_each(&mut *f);
-        for v in &mut self.hw[..np] {
+        for v in &mut self.hub_by_pulley_speed[..np] {
             v.iter_mut().for_each(&mut *f);
         }
-        for a in &mut self.arm[..np] {
+        for a in &mut self.arms[..np] {
             for v in [
-                &mut a.aa, &mut a.ar, &mut a.aw, &mut a.pa, &mut a.pr, &mut a.ta, &mut a.tr,
+                &mut a.arm_accel_by_angle,
+                &mut a.arm_accel_by_rate,
+                &mut a.arm_accel_by_pulley_speed,
+                &mut a.pulley_accel_by_arm_angle,
+                &mut a.pulley_accel_by_arm_rate,
+                &mut a.torque_by_arm_angle,
+                &mut a.torque_by_arm_rate,
             ] {
                 f(v);
             }
-            a.fa.iter_mut().chain(a.fr.iter_mut()).for_each(&mut *f);
+            a.hub_by_arm_angle
+                .iter_mut()
+                .chain(a.hub_by_arm_rate.iter_mut())
+                .for_each(&mut *f);
         }
         for b in &mut self.arm_bodies {
-            for v in b.aa[..np].iter_mut().chain(&mut b.ar[..np]) {
-                v.iter_mut().for_each(&mut *f);
-            }
-            for v in b.rq[..np].iter_mut().chain(&mut b.rv[..np]) {
-                v.iter_mut().for_each(&mut *f);
-            }
-            b.ga[..np]
+            for v in b.accel_by_arm_angle[..np]
                 .iter_mut()
-                .chain(&mut b.gr[..np])
-                .chain(&mut b.rz[..np])
+                .chain(&mut b.accel_by_arm_rate[..np])
+            {
+                v.iter_mut().for_each(&mut *f);
+            }
+            for v in b.arm_accel_by_position[..np]
+                .iter_mut()
+                .chain(&mut b.arm_accel_by_velocity[..np])
+            {
+                v.iter_mut().for_each(&mut *f);
+            }
+            b.creep_rate_by_arm_angle[..np]
+                .iter_mut()
+                .chain(&mut b.creep_rate_by_arm_rate[..np])
+                .chain(&mut b.arm_accel_by_creep[..np])
                 .for_each(&mut *f);
         }
     }
@@ -147,8 +182,12 @@ impl Jacobian {
             for j in 0..np {
                 if b.touching & (1 << j) != 0 {
                     let c = &im[j];
-                    torque[j] += c.tq.dot(&dq.transpose()) + c.tv.dot(&dv.transpose()) + c.tz * dz;
-                    hub[j] += mm(&c.hq, &dq) + mm(&c.hv, &dv) + c.hz * dz;
+                    torque[j] += c.torque_by_position.dot(&dq.transpose())
+                        + c.torque_by_velocity.dot(&dv.transpose())
+                        + c.torque_by_creep * dz;
+                    hub[j] += mm(&c.hub_by_position, &dq)
+                        + mm(&c.hub_by_velocity, &dv)
+                        + c.hub_by_creep * dz;
                 }
             }
         }
@@ -165,13 +204,13 @@ impl Jacobian {
             }
             if self.free[j] {
                 let dw = x[sys.pulley_offset(j) + 1];
-                torque[j] += self.tw[j] * dw;
-                hub[j] += self.hw[j] * dw;
+                torque[j] += self.torque_by_pulley_speed[j] * dw;
+                hub[j] += self.hub_by_pulley_speed[j] * dw;
             }
             if pc.arm.is_some() {
-                let (o, a) = (pc.arm_offset, &self.arm[j]);
-                torque[j] += a.ta * x[o] + a.tr * x[o + 1];
-                hub[j] += a.fa * x[o] + a.fr * x[o + 1];
+                let (o, a) = (pc.arm_offset, &self.arms[j]);
+                torque[j] += a.torque_by_arm_angle * x[o] + a.torque_by_arm_rate * x[o + 1];
+                hub[j] += a.hub_by_arm_angle * x[o] + a.hub_by_arm_rate * x[o + 1];
             }
             // drive torque of a speed-driven pulley: prescribed terms less
             // the belt's torque (and plus a decoupler's clutch torque)
@@ -179,7 +218,8 @@ impl Jacobian {
                 let mut d = -torque[j];
                 if pc.decoupler.is_some() {
                     let o = pc.decoupler_offset;
-                    d += self.dec[j].dt * x[o] + self.dec[j].dr * x[o + 1];
+                    d += self.decouplers[j].drive_torque_by_twist * x[o]
+                        + self.decouplers[j].drive_torque_by_rotor_speed * x[o + 1];
                 }
                 d
             } else {
@@ -241,25 +281,25 @@ impl Jacobian {
                 let on = BODY_DOF * nb;
                 for r in 0..3 {
                     for c in 0..3 {
-                        set(o + 3 + r, on + c, b.aq[slot][(r, c)]);
-                        set(o + 3 + r, on + 3 + c, b.av[slot][(r, c)]);
+                        set(o + 3 + r, on + c, b.accel_by_position[slot][(r, c)]);
+                        set(o + 3 + r, on + 3 + c, b.accel_by_velocity[slot][(r, c)]);
                     }
                 }
             }
             for r in 0..3 {
-                set(o + 3 + r, o + 6, b.az[r]);
-                set(o + 6, o + r, b.gq[r]);
-                set(o + 6, o + 3 + r, b.gv[r]);
+                set(o + 3 + r, o + 6, b.accel_by_creep[r]);
+                set(o + 6, o + r, b.creep_rate_by_position[r]);
+                set(o + 6, o + 3 + r, b.creep_rate_by_velocity[r]);
             }
             for j in 0..sys.np {
                 let w = sys.pulley_offset(j) + 1;
                 for r in 0..3 {
-                    set(o + 3 + r, w, b.aw[j][r]);
-                    set(w, o + r, b.pq[j][r]);
-                    set(w, o + 3 + r, b.pv[j][r]);
+                    set(o + 3 + r, w, b.accel_by_pulley_speed[j][r]);
+                    set(w, o + r, b.pulley_accel_by_position[j][r]);
+                    set(w, o + 3 + r, b.pulley_accel_by_velocity[j][r]);
                 }
-                set(o + 6, w, b.gw[j]);
-                set(w, o + 6, b.pz[j]);
+                set(o + 6, w, b.creep_rate_by_pulley_speed[j]);
+                set(w, o + 6, b.pulley_accel_by_creep[j]);
             }
         }
         for j in 0..sys.np {
@@ -268,39 +308,43 @@ impl Jacobian {
                 set(o, o + 1, 1.0);
             }
             for k in 0..sys.np {
-                set(o + 1, sys.pulley_offset(k) + 1, self.pw[j][k]);
+                set(
+                    o + 1,
+                    sys.pulley_offset(k) + 1,
+                    self.pulley_accel_by_pulley_speed[j][k],
+                );
             }
             if sys.pulleys[j].decoupler.is_some() {
-                let (d, dj) = (sys.pulleys[j].decoupler_offset, &self.dec[j]);
+                let (d, dj) = (sys.pulleys[j].decoupler_offset, &self.decouplers[j]);
                 let h = o + 1;
-                set(d, d, dj.tt);
-                set(d, h, dj.th);
-                set(d, d + 1, dj.tr);
-                set(d + 1, d, dj.rt);
-                set(d + 1, h, dj.rh);
-                set(d + 1, d + 1, dj.rr);
-                set(h, d, dj.ht);
-                set(h, d + 1, dj.hr);
+                set(d, d, dj.twist_rate_by_twist);
+                set(d, h, dj.twist_rate_by_hub_speed);
+                set(d, d + 1, dj.twist_rate_by_rotor_speed);
+                set(d + 1, d, dj.rotor_accel_by_twist);
+                set(d + 1, h, dj.rotor_accel_by_hub_speed);
+                set(d + 1, d + 1, dj.rotor_accel_by_rotor_speed);
+                set(h, d, dj.hub_accel_by_twist);
+                set(h, d + 1, dj.hub_accel_by_rotor_speed);
             }
             if sys.pulleys[j].arm.is_some() {
-                let (a, aj) = (sys.pulleys[j].arm_offset, &self.arm[j]);
+                let (a, aj) = (sys.pulleys[j].arm_offset, &self.arms[j]);
                 set(a, a + 1, 1.0);
-                set(a + 1, a, aj.aa);
-                set(a + 1, a + 1, aj.ar);
-                set(a + 1, o + 1, aj.aw);
-                set(o + 1, a, aj.pa);
-                set(o + 1, a + 1, aj.pr);
+                set(a + 1, a, aj.arm_accel_by_angle);
+                set(a + 1, a + 1, aj.arm_accel_by_rate);
+                set(a + 1, o + 1, aj.arm_accel_by_pulley_speed);
+                set(o + 1, a, aj.pulley_accel_by_arm_angle);
+                set(o + 1, a + 1, aj.pulley_accel_by_arm_rate);
                 for (i, b) in self.arm_bodies.iter().enumerate() {
                     let ob = BODY_DOF * i;
                     for r in 0..3 {
-                        set(ob + 3 + r, a, b.aa[j][r]);
-                        set(ob + 3 + r, a + 1, b.ar[j][r]);
-                        set(a + 1, ob + r, b.rq[j][r]);
-                        set(a + 1, ob + 3 + r, b.rv[j][r]);
+                        set(ob + 3 + r, a, b.accel_by_arm_angle[j][r]);
+                        set(ob + 3 + r, a + 1, b.accel_by_arm_rate[j][r]);
+                        set(a + 1, ob + r, b.arm_accel_by_position[j][r]);
+                        set(a + 1, ob + 3 + r, b.arm_accel_by_velocity[j][r]);
                     }
-                    set(ob + 6, a, b.ga[j]);
-                    set(ob + 6, a + 1, b.gr[j]);
-                    set(a + 1, ob + 6, b.rz[j]);
+                    set(ob + 6, a, b.creep_rate_by_arm_angle[j]);
+                    set(ob + 6, a + 1, b.creep_rate_by_arm_rate[j]);
+                    set(a + 1, ob + 6, b.arm_accel_by_creep[j]);
                 }
             }
         }

@@ -223,11 +223,15 @@ fn jacobian_covers_the_contact_along_the_body() {
         let touching = jac.bodies.iter().filter(|b| b.touching != 0).count();
         assert!(touching > 0);
         assert!(
-            jac.bodies.iter().any(|b| b.aq[SELF][(2, 0)] != 0.0),
+            jac.bodies
+                .iter()
+                .any(|b| b.accel_by_position[SELF][(2, 0)] != 0.0),
             "moment row"
         );
         assert!(
-            jac.impulse.iter().any(|b| b[0].hq[(0, 2)] != 0.0),
+            jac.impulse
+                .iter()
+                .any(|b| b[0].hub_by_position[(0, 2)] != 0.0),
             "angle column"
         );
         let cols = check(sys, 0.02, &y);
@@ -321,7 +325,10 @@ fn jacobian_covers_the_tensioner_arm() {
             // the arm's row is really coupled to the bodies
             let mut jac = Jacobian::new(sys);
             sys.jacobian(0.02, &y, &mut jac);
-            assert!(jac.arm_bodies.iter().any(|b| b.rq[1].norm() > 0.0));
+            assert!(jac
+                .arm_bodies
+                .iter()
+                .any(|b| b.arm_accel_by_position[1].norm() > 0.0));
         }
     }
 }

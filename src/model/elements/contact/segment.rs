@@ -348,6 +348,8 @@ pub fn body_sliding_velocity(se: f64, sev: f64, count: f64, sv: f64) -> f64 {
 /// weighted by their elastic normal forces. `None` if no point is inside
 /// the circle. With `partials` the derivatives too (for the Jacobian).
 /// `points` in 1..=5 ([`quadrature`]); [`segment_of`] with the count fixed.
+/// The tests' reference for [`segment_of`] and the right-hand side's lanes.
+#[cfg_attr(not(test), allow(dead_code))]
 pub fn segment(
     law: &ContactLaw,
     fr: &impl Law,

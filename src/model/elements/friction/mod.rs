@@ -20,8 +20,8 @@
 //! smoothstep makes on [-1, 1]: S(u) = (3u - u^3)/2, S(0) = 0, S'(0) = 3/2,
 //! S(1) = 1, S'(1) = 0 (docs/model.md, "Friction").
 
-pub mod creep;
-pub mod kubas2014;
+mod creep;
+mod kubas2014;
 
 pub use creep::Creep;
 pub use kubas2014::Kubas2014;
