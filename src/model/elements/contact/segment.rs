@@ -100,7 +100,7 @@ pub fn point_radii(radius: f64, body_length: f64, points: usize) -> [f64; MAX_PO
 /// contact at `points` ([`quadrature`], [`point_radii`]): the point at
 /// s = xi hl lies at d = sqrt(rho^2 + s^2) from the axis and pushes along
 /// its own normal, rho / d of it radially. The mounting's static balance
-/// (layout.rs).
+/// (`model/layout/bodies.rs`).
 pub fn resting_force(law: &ContactLaw, radius: f64, p: f64, hl: f64, points: usize) -> f64 {
     let rho = radius - p;
     let radii = point_radii(radius, 2.0 * hl, points);
