@@ -19,6 +19,9 @@
 #[path = "common/ssv.rs"]
 mod ssv;
 
+#[path = "common/accessory.rs"]
+mod accessory;
+
 #[path = "common/body_passing.rs"]
 mod body_passing;
 

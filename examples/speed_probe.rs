@@ -8,6 +8,9 @@
 #[path = "common/ssv.rs"]
 mod ssv;
 
+#[path = "common/accessory.rs"]
+mod accessory;
+
 use belt_drive::drive::Integrator;
 use belt_drive::model::params::Method;
 use belt_drive::Drive;
@@ -22,27 +25,21 @@ fn measured(d: &mut Drive, t0: f64, window: f64) {
 
 fn main() {
     let a: Vec<String> = std::env::args().skip(1).collect();
-    let file = match a.first().map(String::as_str) {
-        Some("tens") => "accessory-drive-tensioner.ssv",
-        _ => "accessory-drive-4.ssv",
+    let set = match a.first().map(String::as_str) {
+        Some("tens") => "tens",
+        _ => "acc4",
     };
     let rpm: f64 = a.get(1).and_then(|s| s.parse().ok()).unwrap_or(800.0);
     let t0: f64 = a.get(2).and_then(|s| s.parse().ok()).unwrap_or(0.05);
     let window: f64 = a.get(3).and_then(|s| s.parse().ok()).unwrap_or(0.01);
-    let mut p = ssv::from_ssv(file);
-    let scale = rpm / 800.0;
-    p.pulleys[0].omega_ramp *= scale;
-    for q in &mut p.pulleys {
-        q.ramp_time = 0.2;
-    }
-    for q in &mut p.pulleys[1..] {
-        q.load_damping /= scale;
-    }
-    p.solver.rel_tol = 1e-4;
-    p.solver.method = match a.get(4).map(String::as_str) {
+    let method = match a.get(4).map(String::as_str) {
         Some("rkf45") => Method::Rkf45,
         _ => Method::Rosenbrock,
     };
+    let mut p = accessory::at_rpm(set, rpm, method);
+    for q in &mut p.pulleys {
+        q.ramp_time = 0.2;
+    }
     let mut d = Drive::new(&p, 0.0).expect("valid drive");
     let n0 = (t0 / 1e-3).round() as usize;
     for k in 1..=n0 {
@@ -56,7 +53,7 @@ fn main() {
         Integrator::Rkf45(_) => 0,
     };
     println!(
-        "{file} {rpm} rpm: {} steps, {} rejected, {} rhs; jacobians (cumulative) {jac}",
+        "{set} {rpm} rpm: {} steps, {} rejected, {} rhs; jacobians (cumulative) {jac}",
         s1.steps - s0.steps,
         s1.rejected - s0.rejected,
         s1.rhs_evals - s0.rhs_evals

@@ -22,6 +22,9 @@
 #[path = "common/ssv.rs"]
 mod ssv;
 
+#[path = "common/accessory.rs"]
+mod accessory;
+
 use belt_drive::drive::Integrator;
 use belt_drive::model::params::Method;
 use belt_drive::model::state::{bodies_len, body_component, BodyComponent};
@@ -48,25 +51,13 @@ fn cpu_time() -> f64 {
 
 /// The drive `name` at crank speed `rpm` with `method` at relTol 1e-4.
 fn drive(name: &str, rpm: f64, method: Method) -> DriveParams {
-    let mut p = match name {
-        "5pk" => DriveParams::default(),
-        "acc4" => ssv::from_ssv("accessory-drive-4.ssv"),
-        "tens" => ssv::from_ssv("accessory-drive-tensioner.ssv"),
-        _ => panic!("drive {name}: 5pk, acc4 or tens"),
-    };
-    if name != "5pk" {
-        // the crank is speed-driven to 800 rpm in the sets; loads held at
-        // their idle torques
-        let idle = p.pulleys[0].omega_ramp;
-        let scale = rpm / 800.0;
-        p.pulleys[0].omega_ramp = idle * scale;
-        for q in &mut p.pulleys[1..] {
-            q.load_damping /= scale;
-        }
+    if name == "5pk" {
+        let mut p = DriveParams::default();
+        p.solver.method = method;
+        p.solver.rel_tol = 1e-4;
+        return p;
     }
-    p.solver.method = method;
-    p.solver.rel_tol = 1e-4;
-    p
+    accessory::at_rpm(name, rpm, method)
 }
 
 /// Where the worst component of a trial lies.

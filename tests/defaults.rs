@@ -10,9 +10,12 @@
 
 mod common;
 
-use belt_drive::fmi::FmuModel;
-use belt_drive::fmu::variables::{by_name, VarType};
-use belt_drive::fmu::BeltDrive;
+#[path = "../examples/common/ssv.rs"]
+mod ssv;
+
+#[path = "../examples/common/accessory.rs"]
+mod accessory;
+
 use belt_drive::model::params::{Method, PulleyParams};
 use belt_drive::{Drive, DriveParams, Inputs};
 use common::Averages;
@@ -66,26 +69,6 @@ fn two_to_one() -> DriveParams {
     p2.load_damping = 1.0;
     p.pulleys = vec![p1, p2];
     p
-}
-
-/// A parameter set of `parameters/` applied through the FMU adapter.
-fn parameter_set(file: &str) -> DriveParams {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("parameters")
-        .join(file);
-    let text = std::fs::read_to_string(&path).expect("parameter set");
-    let mut m = BeltDrive::new();
-    for p in model_description::ssv::read(&text).expect("valid .ssv") {
-        let v = by_name(&p.name).expect("known variable");
-        match v.ty {
-            VarType::Real => m.set_real(v, p.value.parse().unwrap()),
-            VarType::Integer => m.set_integer(v, p.value.parse().unwrap()),
-            VarType::Boolean => m.set_boolean(v, p.value == "true"),
-            _ => Ok(()),
-        }
-        .expect("value accepted");
-    }
-    m.drive_params().expect("valid set")
 }
 
 /// One run's means over a window.
@@ -341,7 +324,7 @@ fn integrators_agree_on_the_section3_load_step() {
 /// compared is the alternator's (the fastest pulley).
 #[test]
 fn integrators_agree_on_the_accessory_drive() {
-    let mut p = parameter_set("accessory-drive-4.ssv");
+    let mut p = ssv::from_ssv("accessory-drive-4.ssv");
     p.solver.max_steps = DriveParams::default().solver.max_steps;
     for q in &mut p.pulleys {
         q.ramp_time = 0.2;
@@ -361,7 +344,7 @@ fn integrators_agree_on_the_decoupler_and_tensioner_sets() {
         "accessory-drive-decoupler.ssv",
         "accessory-drive-tensioner.ssv",
     ] {
-        let mut p = parameter_set(file);
+        let mut p = ssv::from_ssv(file);
         p.solver.max_steps = DriveParams::default().solver.max_steps;
         for q in &mut p.pulleys {
             q.ramp_time = 0.2;
@@ -378,21 +361,16 @@ fn integrators_agree_on_the_decoupler_and_tensioner_sets() {
 /// bounds of `agree_with_reference` at 1e-4: pulley speeds and span
 /// tensions within 0.5 %. The crank ramp shortened to 0.2 s, means over
 /// 0.3-0.4 s. Measured (`cargo test --profile ci --test defaults
-/// tensioner_set_at_6000 -- --nocapture`): span tensions within 0.04 %
-/// (918.09 / 772.68 / 661.04 / 658.29 N against 918.29 / 772.96 / 661.23 /
-/// 658.52 N), pulley speeds within 0.003 %, the alternator's slip 0.1126 %
-/// against 0.1150 %; 49 970 stiff steps against 172 190.
+/// tensioner_set_at_6000 -- --nocapture`): span tensions within 0.16 %
+/// (919.18 / 774.10 / 661.81 / 659.29 N against 917.92 / 772.89 / 660.81 /
+/// 658.27 N), pulley speeds within 0.007 %, the alternator's slip 0.1071 %
+/// against 0.1132 %; 40 767 stiff steps against 171 468.
 #[test]
 fn integrators_agree_on_the_tensioner_set_at_6000_rpm() {
-    let mut p = parameter_set("accessory-drive-tensioner.ssv");
+    let mut p = accessory::at_rpm("tens", 6000.0, Method::Rosenbrock);
     p.solver.max_steps = DriveParams::default().solver.max_steps;
-    let scale = 6000.0 / 800.0;
-    p.pulleys[0].omega_ramp *= scale;
     for q in &mut p.pulleys {
         q.ramp_time = 0.2;
-    }
-    for q in &mut p.pulleys[1..] {
-        q.load_damping /= scale;
     }
     let (t0, t1) = (0.3, 0.4);
     let (reference, stiff) = std::thread::scope(|s| {
@@ -440,7 +418,7 @@ fn integrators_agree_on_the_tensioner_set_at_6000_rpm() {
 /// means over 0.35-0.6 s as on the default drive.
 #[test]
 fn integrators_agree_on_the_section4_set() {
-    let mut p = parameter_set("kubas2014-section4.ssv");
+    let mut p = ssv::from_ssv("kubas2014-section4.ssv");
     // the set's step guard is the FMU's per-communication-step bound
     p.solver.max_steps = DriveParams::default().solver.max_steps;
     integrators_agree("section-4 set", &p, None, 0.35, 0.6, 1);

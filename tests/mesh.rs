@@ -20,6 +20,9 @@ mod mesh_limits;
 #[path = "../examples/common/ssv.rs"]
 mod ssv;
 
+#[path = "../examples/common/accessory.rs"]
+mod accessory;
+
 #[path = "../examples/common/body_passing.rs"]
 mod body_passing;
 use mesh_limits::{CONVERGED_2TO1, CONVERGED_5PK};

@@ -21,6 +21,9 @@ use belt_drive::{Drive, DriveParams};
 #[allow(dead_code)]
 mod ssv;
 
+#[path = "../../examples/common/accessory.rs"]
+mod accessory;
+
 /// Crank speeds of the accessory sets [rpm].
 const SPEEDS: [f64; 4] = [800.0, 2000.0, 4000.0, 6000.0];
 /// Communication step [s].
@@ -63,17 +66,10 @@ fn timed(p: &DriveParams, t0: f64, window: f64) -> Timed {
 
 /// The accessory set `file` at `rpm` with `method` (see the module docs).
 fn accessory(file: &str, rpm: f64, method: Method) -> DriveParams {
-    let mut p = ssv::from_ssv(file);
-    let scale = rpm / 800.0;
-    p.pulleys[0].omega_ramp *= scale;
+    let mut p = accessory::at_rpm(file, rpm, method);
     for q in &mut p.pulleys {
         q.ramp_time = 0.2;
     }
-    for q in &mut p.pulleys[1..] {
-        q.load_damping /= scale;
-    }
-    p.solver.method = method;
-    p.solver.rel_tol = 1e-4;
     p
 }
 

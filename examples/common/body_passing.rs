@@ -1,6 +1,7 @@
 //! The body-passing component of a drive's instantaneous outputs (shared by
 //! examples/body_passing.rs and tests/mesh.rs, included with `#[path]`; the
-//! including crate declares `mod ssv` from examples/common/ssv.rs).
+//! including crate declares `mod ssv` and `mod accessory` from
+//! examples/common/).
 
 use belt_drive::model::params::Method;
 use belt_drive::{Drive, DriveParams};
@@ -59,18 +60,7 @@ pub struct Signal {
 /// every `DT` over `WINDOW`: the body-passing frequency f_bp = v / l [Hz]
 /// and the alternator's (pulley 3) belt torque, then each span's tension.
 pub fn measure(set: &str, rpm: f64, method: Method) -> (DriveParams, f64, Vec<Signal>) {
-    let mut p: DriveParams = match set {
-        "acc4" => crate::ssv::from_ssv("accessory-drive-4.ssv"),
-        "tens" => crate::ssv::from_ssv("accessory-drive-tensioner.ssv"),
-        _ => panic!("set {set}: acc4 or tens"),
-    };
-    let scale = rpm / 800.0;
-    p.pulleys[0].omega_ramp *= scale;
-    for q in &mut p.pulleys[1..] {
-        q.load_damping /= scale;
-    }
-    p.solver.method = method;
-    p.solver.rel_tol = 1e-4;
+    let p: DriveParams = crate::accessory::at_rpm(set, rpm, method);
     let np = p.pulleys.len();
     let ramp = p.pulleys.iter().map(|q| q.ramp_time).fold(0.0, f64::max);
     let t0 = ramp + 0.1;
