@@ -10,8 +10,6 @@
 
 mod abi;
 
-use std::path::Path;
-
 use abi::*;
 
 /// Instantiated with `ints`, `reals`, `bools`; returns the instance and the
@@ -255,16 +253,8 @@ fn back_side_idler_without_its_flag_names_the_flag() {
     let fmi = Fmi::load();
     let set = |back: bool| {
         let i = Instance::new(&fmi);
-        for (name, ty, value) in ssv("accessory-drive-4.ssv") {
-            let s = match ty.as_str() {
-                "Real" => i.set_real(&name, value.parse().unwrap()),
-                "Integer" => i.set_integer(&name, value.parse().unwrap()),
-                "Boolean" if name == "pulley[4].backSide" => i.set_boolean(&name, back),
-                "Boolean" => i.set_boolean(&name, value == "true"),
-                _ => panic!("{name}: {ty}"),
-            };
-            assert_eq!(s, OK, "{name}");
-        }
+        i.set_ssv("accessory-drive-4.ssv");
+        assert_eq!(i.set_boolean("pulley[4].backSide", back), OK);
         let s = unsafe {
             assert_eq!((fmi.setup_experiment)(i.c, 0, 0.0, 0.0, 0, 0.0), OK);
             assert_eq!((fmi.enter_init)(i.c), OK);
@@ -282,19 +272,6 @@ fn back_side_idler_without_its_flag_names_the_flag() {
     );
     let (i, s) = set(true);
     assert_eq!(s, OK, "{:?}", i.log.borrow());
-}
-
-/// (name, type, value) of every parameter of an .ssv file.
-fn ssv(file: &str) -> Vec<(String, String, String)> {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("parameters")
-        .join(file);
-    let text = std::fs::read_to_string(&path).unwrap();
-    model_description::ssv::read(&text)
-        .unwrap()
-        .into_iter()
-        .map(|p| (p.name, p.ty, p.value))
-        .collect()
 }
 
 /// The accessory drive (parameters/accessory-drive-4.ssv: crank speed-driven
@@ -346,17 +323,11 @@ fn belt_loss_balance(points: i32) {
     let fmi = Fmi::load();
     let i = Instance::new(&fmi);
     let mut damping = [0.0; 4];
-    for (name, ty, value) in ssv("accessory-drive-4.ssv") {
-        let s = match ty.as_str() {
-            "Real" => i.set_real(&name, value.parse().unwrap()),
-            "Integer" => i.set_integer(&name, value.parse().unwrap()),
-            "Boolean" => i.set_boolean(&name, value == "true"),
-            _ => panic!("{name}: {ty}"),
-        };
-        assert_eq!(s, OK, "{name}");
+    i.set_ssv("accessory-drive-4.ssv");
+    for p in ssv("accessory-drive-4.ssv") {
         for (j, d) in damping.iter_mut().enumerate() {
-            if name == format!("pulley[{}].loadDamping", j + 1) {
-                *d = value.parse().unwrap();
+            if p.name == format!("pulley[{}].loadDamping", j + 1) {
+                *d = p.value.parse().unwrap();
             }
         }
     }

@@ -6,42 +6,14 @@
 
 mod abi;
 
-use std::path::Path;
-
 use abi::*;
-
-/// (name, type, value) of every parameter of an .ssv file.
-fn ssv(file: &str) -> Vec<(String, String, String)> {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("parameters")
-        .join(file);
-    let text = std::fs::read_to_string(&path).unwrap();
-    model_description::ssv::read(&text)
-        .unwrap()
-        .into_iter()
-        .map(|p| (p.name, p.ty, p.value))
-        .collect()
-}
 
 /// An initialized instance of `file` with `solver.method` = `method`.
 fn instance<'a>(fmi: &'a Fmi, file: &str, method: i32) -> Instance<'a> {
     let i = Instance::new(fmi);
-    for (name, ty, value) in ssv(file) {
-        let s = match ty.as_str() {
-            "Real" => i.set_real(&name, value.parse().unwrap()),
-            "Integer" => i.set_integer(&name, value.parse().unwrap()),
-            "Boolean" => i.set_boolean(&name, value == "true" || value == "1"),
-            t => panic!("{name}: type {t}"),
-        };
-        assert_eq!(s, OK, "{name}");
-    }
+    i.set_ssv(file);
     assert_eq!(i.set_integer("solver.method", method), OK);
-    // SAFETY: live instance.
-    unsafe {
-        assert_eq!((fmi.setup_experiment)(i.c, 0, 0.0, 0.0, 0, 0.0), OK);
-        assert_eq!((fmi.enter_init)(i.c), OK);
-        assert_eq!((fmi.exit_init)(i.c), OK, "{:?}", i.log.borrow());
-    }
+    i.initialize();
     i
 }
 

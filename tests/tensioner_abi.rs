@@ -9,7 +9,6 @@
 mod abi;
 
 use abi::*;
-use std::path::Path;
 
 const ARM: &[&str] = &[
     "pulley[4].arm.angle",
@@ -25,24 +24,9 @@ const ARM: &[&str] = &[
 /// An instance with every parameter of `parameters/accessory-drive-tensioner.ssv`
 /// set as an importer would, initialized at t = 0.
 fn tensioner_set(fmi: &Fmi) -> Instance<'_> {
-    let path =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("parameters/accessory-drive-tensioner.ssv");
-    let text = std::fs::read_to_string(&path).unwrap();
     let i = Instance::new(fmi);
-    for p in model_description::ssv::read(&text).unwrap() {
-        let s = match p.ty.as_str() {
-            "Real" => i.set_real(&p.name, p.value.parse().unwrap()),
-            "Integer" => i.set_integer(&p.name, p.value.parse().unwrap()),
-            "Boolean" => i.set_boolean(&p.name, p.value == "true"),
-            t => panic!("{t}"),
-        };
-        assert_eq!(s, OK, "{} = {}", p.name, p.value);
-    }
-    unsafe {
-        assert_eq!((fmi.setup_experiment)(i.c, 0, 0.0, 0.0, 0, 0.0), OK);
-        assert_eq!((fmi.enter_init)(i.c), OK);
-        assert_eq!((fmi.exit_init)(i.c), OK, "{:?}", i.log.borrow());
-    }
+    i.set_ssv("accessory-drive-tensioner.ssv");
+    i.initialize();
     i
 }
 

@@ -241,6 +241,15 @@ impl Fmi {
     }
 }
 
+/// The parameters of `parameters/<file>` (an .ssv file) as written.
+pub fn ssv(file: &str) -> Vec<model_description::ssv::Parameter> {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("parameters")
+        .join(file);
+    let text = std::fs::read_to_string(&path).unwrap();
+    model_description::ssv::read(&text).unwrap()
+}
+
 pub fn vr(name: &str) -> c_uint {
     by_name(name)
         .unwrap_or_else(|| panic!("no variable {name}"))
@@ -354,6 +363,31 @@ impl<'a> Instance<'a> {
     pub fn set_boolean(&self, name: &str, x: bool) -> c_int {
         let b = c_int::from(x);
         unsafe { (self.fmi.set_boolean)(self.c, &vr(name), 1, &b) }
+    }
+
+    /// Sets every parameter of `parameters/<file>` as an importer reads
+    /// it from the file, each of which must be accepted.
+    pub fn set_ssv(&self, file: &str) {
+        for p in ssv(file) {
+            let s = match p.ty.as_str() {
+                "Real" => self.set_real(&p.name, p.value.parse().unwrap()),
+                "Integer" => self.set_integer(&p.name, p.value.parse().unwrap()),
+                "Boolean" => self.set_boolean(&p.name, p.value == "true" || p.value == "1"),
+                t => panic!("{}: type {t}", p.name),
+            };
+            assert_eq!(s, OK, "{} = {}: {:?}", p.name, p.value, self.log.borrow());
+        }
+    }
+
+    /// `fmi2SetupExperiment` at t = 0, `fmi2EnterInitializationMode` and
+    /// `fmi2ExitInitializationMode`, each of which must succeed.
+    pub fn initialize(&self) {
+        // SAFETY: live instance.
+        unsafe {
+            assert_eq!((self.fmi.setup_experiment)(self.c, 0, 0.0, 0.0, 0, 0.0), OK);
+            assert_eq!((self.fmi.enter_init)(self.c), OK);
+            assert_eq!((self.fmi.exit_init)(self.c), OK, "{:?}", self.log.borrow());
+        }
     }
 
     /// `fmi2GetReal` of `names`, which must succeed.
