@@ -3,6 +3,8 @@
 //! between `<!-- bench:begin -->` and `<!-- bench:end -->`, with their
 //! tables, the machine (CPU model and cores from /proc/cpuinfo), the command
 //! and the load average. The hand-written text around the markers is kept.
+//! It then draws `docs/benchmarks/cost-vs-belt-speed.svg` from the page's
+//! speeds table (`examples/cost_plot.py`, matplotlib from `.venv`).
 //! No date or commit goes into the page (the docs describe the product as it
 //! is; `xtask/src/hygiene.rs` refuses both): git records when the section
 //! was regenerated.
@@ -33,6 +35,8 @@ use std::time::Instant;
 
 const BEGIN: &str = "<!-- bench:begin -->";
 const END: &str = "<!-- bench:end -->";
+/// The picture of the cost against belt speed, drawn from the speeds table.
+const COST_PLOT: &str = "docs/benchmarks/cost-vs-belt-speed.svg";
 
 struct Options {
     full: bool,
@@ -294,6 +298,14 @@ pub fn bench(args: &[String]) -> Result<()> {
         let doc = fs::read_to_string(&path).map_err(|e| format!("reading {path:?}: {e}"))?;
         fs::write(&path, splice(&doc, &body)?).map_err(|e| format!("writing {path:?}: {e}"))?;
         eprintln!("xtask: bench: docs/benchmarks.md updated between the markers");
+        // the cost against belt speed, drawn from the page's speeds table
+        crate::venv()?;
+        crate::run(
+            Command::new(crate::venv_python())
+                .current_dir(root())
+                .args(["examples/cost_plot.py", "docs/benchmarks.md", COST_PLOT]),
+            "the cost against belt speed (examples/cost_plot.py)",
+        )?;
     }
     Ok(())
 }
