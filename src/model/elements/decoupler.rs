@@ -193,8 +193,16 @@ impl Decoupler {
     /// Power dissipated in the damper and the slipping clutch [W] (>= 0):
     /// the power the hub gives, M w, less the spring's energy rate.
     pub fn dissipation(&self, twist: f64, w: f64) -> f64 {
-        let l = self.law(twist, w);
-        l.torque * w - self.stiffness * twist * l.twist_rate
+        self.dissipation_after(0.0, &self.law(twist, w), twist, w)
+    }
+
+    /// `before` plus the power dissipated in the damper and the slipping
+    /// clutch, `law` being [`Self::law`] at (`twist`, `w`), summed as
+    /// (before + M w) - k delta delta': the right-hand side adds the rotor
+    /// load's power first, and this keeps its rounding.
+    #[inline(always)]
+    pub fn dissipation_after(&self, before: f64, law: &DecouplerLaw, twist: f64, w: f64) -> f64 {
+        before + law.torque * w - self.stiffness * twist * law.twist_rate
     }
 }
 

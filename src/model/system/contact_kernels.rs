@@ -99,8 +99,8 @@ pub(super) fn contact_arc<const ENERGY: bool>(
             // friction slip; and the power its creep spring stores (the
             // friction power less what it dissipates, elements::friction)
             let (ms, mk) = (mu_s * zf, mu_k * zf);
-            let loss =
-                (normal - elastic) * kin.p_dot + friction.slip_loss(kin.v_t, z, ms, mk, normal);
+            let loss = contact::damper_loss(&kin, normal, elastic)
+                + friction.slip_loss(kin.v_t, z, ms, mk, normal);
             let stored = f * kin.v_t
                 - friction.dissipated_power(
                     kin.v_t,

@@ -5,6 +5,7 @@ use super::{BeltSystem, PulleyConst, BODY_DOF};
 use crate::model::elements::contact;
 use crate::model::elements::friction::Law;
 use crate::model::params::MAX_PULLEYS;
+use crate::model::trig;
 
 impl BeltSystem {
     /// Discrete update after every accepted step: the creep displacement of a
@@ -37,43 +38,41 @@ impl BeltSystem {
     }
 
     /// The first pulley body `i` touches in state `y` (pulley centres
-    /// given): a contact point of the body inside the pulley's contact
-    /// radius (the centre with one point). The test of [`Self::after_step`]
-    /// (and of the modal analysis' contact regions).
+    /// given): as the right-hand side's contact has it, the body's centre
+    /// inside the pulley's contact circle with one point ([`contact::distance2`]
+    /// below the squared radius), else one of its points with a positive
+    /// penetration ([`contact::point_position`], [`contact::penetration`]),
+    /// the same arithmetic as the right-hand side's.
+    /// The test of [`Self::after_step`] (and of the modal analysis' contact
+    /// regions).
     #[inline]
     pub fn touching(&self, i: usize, y: &[f64], centres: &[[f64; 2]]) -> Option<usize> {
         let o = BODY_DOF * i;
         let (x, yy) = (y[o], y[o + 1]);
-        if self.points == 1 {
-            // the centre: the test below with xi h = 0 (its reach holds the
-            // centre's circle)
-            return self.pulleys[..self.np]
-                .iter()
-                .zip(centres)
-                .position(|(pc, c)| {
-                    let (rx, ry) = (x - c[0], yy - c[1]);
-                    rx * rx + ry * ry < pc.radii[0] * pc.radii[0]
-                });
-        }
         let mut pulleys = self.pulleys[..self.np].iter().zip(centres);
+        if self.points == 1 {
+            return pulleys.position(|(pc, c)| {
+                contact::distance2([x - c[0], yy - c[1]]) < pc.radii[0] * pc.radii[0]
+            });
+        }
         // no point of a body lies farther than l/2 from its centre: a body
         // out of every pulley's reach touches none (the common case, and
         // no sin/cos for it)
         let near = |pc: &PulleyConst, c: &[f64; 2]| {
-            let (rx, ry) = (x - c[0], yy - c[1]);
-            rx * rx + ry * ry < pc.reach * pc.reach
+            contact::distance2([x - c[0], yy - c[1]]) < pc.reach * pc.reach
         };
         if !pulleys.clone().any(|(pc, c)| near(pc, c)) {
             return None;
         }
-        let (s, c) = y[o + 2].sin_cos();
-        let (hx, hy) = (self.half_length * c, self.half_length * s);
+        // the body's half vector as the right-hand side forms it
+        let (s, c) = trig::sin_cos(y[o + 2]);
+        let h = [self.half_length * c, self.half_length * s];
         let quad = contact::quadrature(self.points);
         pulleys.position(|(pc, c)| {
+            let r = [x - c[0], yy - c[1]];
             near(pc, c)
                 && quad.iter().zip(&pc.radii).any(|(&(xi, _), &rg)| {
-                    let (rx, ry) = (x + xi * hx - c[0], yy + xi * hy - c[1]);
-                    rx * rx + ry * ry < rg * rg
+                    contact::penetration(contact::point_position(r, xi, h), rg) > 0.0
                 })
         })
     }

@@ -135,13 +135,13 @@ impl BeltSystem {
             for (pc, c) in self.pulleys[..self.np].iter().zip(&centres) {
                 let (rx, ry) = (b[0] - c[0], b[1] - c[1]);
                 // no contact point lies farther than l/2 from the centre
-                if rx * rx + ry * ry >= pc.reach * pc.reach {
+                if contact::distance2([rx, ry]) >= pc.reach * pc.reach {
                     continue;
                 }
                 let mut force = 0.0;
                 for (&(xi, w), &radius) in quad.iter().zip(&pc.radii) {
-                    let (px, py) = (rx + xi * cur.hx, ry + xi * cur.hy);
-                    let p = radius - (px * px + py * py).sqrt();
+                    let point = contact::point_position([rx, ry], xi, [cur.hx, cur.hy]);
+                    let p = contact::penetration(point, radius);
                     if p > 0.0 {
                         elastic += w * self.contact.energy(p);
                         force += w * self.contact.elastic_force(p);

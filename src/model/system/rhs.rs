@@ -378,8 +378,9 @@ impl BeltSystem {
                 let bal = hub.balance(w, -m, belt_torque[j], prescribed);
                 dy[o + 1] = bal.alpha;
                 p_in += bal.drive * w + applied * w_r;
-                // the clutch's power M w less the spring's energy rate
-                *p_diss += load * w_r + law.torque * rel - dc.stiffness * twist * law.twist_rate;
+                // the rotor load's power, then the clutch's M w less the
+                // spring's energy rate
+                *p_diss += dc.dissipation_after(load * w_r, &law, twist, rel);
                 if R::ACTIVE {
                     rec.decoupler(j, law.torque, w_r);
                 }

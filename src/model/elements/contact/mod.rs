@@ -184,6 +184,21 @@ pub struct ContactKin {
     pub v_t: f64,
 }
 
+/// Squared distance of a point at `r` from the pulley centre [m^2]
+/// (eq. 4-8).
+#[inline(always)]
+pub fn distance2(r: [f64; 2]) -> f64 {
+    r[0] * r[0] + r[1] * r[1]
+}
+
+/// Penetration p = r_p - |r| of a point at `r` from the centre of a
+/// contact circle of `radius` [m], positive inside (eq. 8): the
+/// [`ContactKin::p`] of [`kinematics`], for code that needs no more.
+#[inline(always)]
+pub fn penetration(r: [f64; 2], radius: f64) -> f64 {
+    radius - distance2(r).sqrt()
+}
+
 /// [`ContactKin`] of a body at `r` from the centre of a pulley of `radius`
 /// whose surface moves at `surface` (= omega times the friction lever),
 /// body velocity `v`.
@@ -191,11 +206,11 @@ pub struct ContactKin {
 pub fn kinematics(r: [f64; 2], v: [f64; 2], radius: f64, surface: f64) -> ContactKin {
     let [rx, ry] = r;
     let [vx, vy] = v;
-    let d2 = rx * rx + ry * ry;
+    let d2 = distance2(r);
     let dist = d2.sqrt();
     let inv_dist = 1.0 / dist.max(1e-12);
     let (nx, ny) = (rx * inv_dist, ry * inv_dist);
-    let p = radius - dist;
+    let p = penetration(r, radius);
     let p_dot = -(vx * nx + vy * ny);
     let (tx, ty) = (-ny, nx);
     let v_t = surface - (vx * tx + vy * ty);
@@ -218,12 +233,18 @@ pub fn force(k: &ContactKin, normal: f64, f: f64) -> [f64; 2] {
     [normal * k.n[0] + f * k.t[0], normal * k.n[1] + f * k.t[1]]
 }
 
-/// Power dissipated by one contact: the normal damper (the normal force
-/// beyond its elastic part `elastic` times the penetration rate) plus
-/// friction (f v_T).
+/// Power dissipated by one contact: the normal damper ([`damper_loss`])
+/// plus friction (f v_T).
 #[inline(always)]
 pub fn dissipation(k: &ContactKin, normal: f64, elastic: f64, f: f64) -> f64 {
-    (normal - elastic) * k.p_dot + f * k.v_t
+    damper_loss(k, normal, elastic) + f * k.v_t
+}
+
+/// Power dissipated by the contact's normal damper: the normal force
+/// beyond its elastic part `elastic` times the penetration rate.
+#[inline(always)]
+pub fn damper_loss(k: &ContactKin, normal: f64, elastic: f64) -> f64 {
+    (normal - elastic) * k.p_dot
 }
 
 /// Partial derivatives of one contact's force ([`force`]) on a body, for

@@ -279,6 +279,15 @@ pub struct PointContact {
     pub dissipation: f64,
 }
 
+/// Where the point at `xi` l/2 along a body lies relative to the pulley
+/// centre: r + xi h, `r` the body centre's position relative to it and
+/// `h` = l/2 (cos phi, sin phi). [`point`]'s geometry, and with
+/// [`super::penetration`] the point's penetration wherever it is needed.
+#[inline(always)]
+pub fn point_position(r: [f64; 2], xi: f64, h: [f64; 2]) -> [f64; 2] {
+    [r[0] + xi * h[0], r[1] + xi * h[1]]
+}
+
 /// The law of [`segment`] at one point of a body: the point at `xi` l/2
 /// along the body (`body.h` = l/2 (cos phi, sin phi)) with its share `lw`
 /// of the penalty law ([`ContactLaw::share`]), its contact circle `radius`
@@ -302,7 +311,7 @@ pub fn point(
     let [hx, hy] = body.h;
     let a = [xi * hx, xi * hy];
     let pa = [-a[1], a[0]];
-    let rg = [body.r[0] + a[0], body.r[1] + a[1]];
+    let rg = point_position(body.r, xi, body.h);
     let vg = [body.v[0] + body.w * pa[0], body.v[1] + body.w * pa[1]];
     let kin = kinematics(rg, vg, radius, pulley.omega * lever);
     let (normal, elastic) = lw.normal_force(kin.p, kin.p_dot, pulley.inv_p_max);
