@@ -5,8 +5,10 @@
 //! does not have.
 //!
 //! `cargo run --profile ci --example body_passing -- [SET ...] [rpm=R]
-//! [method=stiff|rkf45]`, SET one of `acc4` (`parameters/accessory-drive-4.ssv`,
-//! the default together with `tens`), `tens`
+//! [method=stiff|rkf45] [NAME=VALUE ...]`, NAME=VALUE any parameter by its
+//! FMU variable name (e.g. `belt.nBodies=320 contact.points=1`), SET one of
+//! `acc4` (`parameters/accessory-drive-4.ssv`, the default together with
+//! `tens`), `tens`
 //! (`parameters/accessory-drive-tensioner.ssv`); the crank at R rpm (800,
 //! idle, by default; the load damping scaled by 800 / R so the load torques
 //! keep their idle values), RKF45 at relTol 1e-4 by default. Each run
@@ -27,8 +29,8 @@ mod body_passing;
 
 use belt_drive::model::params::Method;
 
-fn run(set: &str, rpm: f64, method: Method) {
-    let (p, f_bp, signals) = body_passing::measure(set, rpm, method);
+fn run(set: &str, rpm: f64, method: Method, overrides: &[(String, String)]) {
+    let (p, f_bp, signals) = body_passing::measure_with(set, rpm, method, overrides);
     let v = p.pulleys[0].omega_ramp.abs() * p.pulleys[0].radius;
     println!(
         "{set} at {rpm} rpm ({method:?}, relTol 1e-4, {} bodies): belt speed {v:.2} m/s, \
@@ -53,11 +55,13 @@ fn run(set: &str, rpm: f64, method: Method) {
 fn main() {
     let mut sets = Vec::new();
     let (mut rpm, mut method) = (800.0, Method::Rkf45);
+    let mut overrides = Vec::new();
     for a in std::env::args().skip(1) {
         match a.split_once('=') {
             Some(("rpm", r)) => rpm = r.parse().expect("rpm"),
             Some(("method", "stiff")) => method = Method::Rosenbrock,
             Some(("method", "rkf45")) => method = Method::Rkf45,
+            Some((name, v)) if name.contains('.') => overrides.push((name.into(), v.into())),
             None => sets.push(a),
             _ => panic!("argument {a}"),
         }
@@ -66,6 +70,6 @@ fn main() {
         sets = vec!["acc4".into(), "tens".into()];
     }
     for s in &sets {
-        run(s, rpm, method);
+        run(s, rpm, method, &overrides);
     }
 }

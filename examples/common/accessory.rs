@@ -23,8 +23,21 @@ pub fn file(set: &str) -> &str {
 /// to `rpm` instead of the set's own speed and every load's damping divided
 /// by the same ratio, so that each load torque (damping times speed) keeps
 /// the set's value; `method` at relTol 1e-4. The ramps stay the set's.
+#[allow(dead_code)] // examples/body_passing.rs calls at_rpm_with
 pub fn at_rpm(set: &str, rpm: f64, method: Method) -> DriveParams {
-    let mut p = super::ssv::from_ssv(file(set));
+    at_rpm_with(set, rpm, method, &[])
+}
+
+/// [`at_rpm`] with the parameters `overrides` (FMU variable name, value)
+/// set after the file's (e.g. `belt.nBodies`), before the speed is scaled.
+#[allow(dead_code)] // not every including crate overrides
+pub fn at_rpm_with(
+    set: &str,
+    rpm: f64,
+    method: Method,
+    overrides: &[(String, String)],
+) -> DriveParams {
+    let mut p = super::ssv::from_ssv_with(file(set), overrides);
     let own = p.pulleys[0].omega_ramp.abs() * 30.0 / std::f64::consts::PI;
     let scale = rpm / own;
     p.pulleys[0].omega_ramp *= scale;

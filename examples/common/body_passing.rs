@@ -59,8 +59,20 @@ pub struct Signal {
 /// `method` at relTol 1e-4, settled 0.1 s after its speed ramp, sampled
 /// every `DT` over `WINDOW`: the body-passing frequency f_bp = v / l [Hz]
 /// and the alternator's (pulley 3) belt torque, then each span's tension.
+#[allow(dead_code)] // examples/body_passing.rs calls measure_with
 pub fn measure(set: &str, rpm: f64, method: Method) -> (DriveParams, f64, Vec<Signal>) {
-    let p: DriveParams = crate::accessory::at_rpm(set, rpm, method);
+    measure_with(set, rpm, method, &[])
+}
+
+/// `measure` with the parameters `overrides` (FMU variable name, value) set
+/// after the file's (e.g. `belt.nBodies`, `contact.points`).
+pub fn measure_with(
+    set: &str,
+    rpm: f64,
+    method: Method,
+    overrides: &[(String, String)],
+) -> (DriveParams, f64, Vec<Signal>) {
+    let p: DriveParams = crate::accessory::at_rpm_with(set, rpm, method, overrides);
     let np = p.pulleys.len();
     let ramp = p.pulleys.iter().map(|q| q.ramp_time).fold(0.0, f64::max);
     let t0 = ramp + 0.1;
