@@ -427,3 +427,27 @@ fn belt_loss_balance(points: i32) {
         "belt losses counted twice: {creep} J"
     );
 }
+
+/// The mesh warning through the C ABI: the fast drive's 40 bodies leave
+/// each 0.25 m span 12.3 bodies, fewer than the 13.6 its first three
+/// transverse modes need within 2 % (src/drive/mesh_check.rs); it
+/// initialises with fmi2OK and logs a warning naming `belt.nBodies` and the
+/// count to use; at 60 bodies it logs none.
+#[test]
+fn coarse_mesh_is_warned_about_naming_belt_n_bodies() {
+    let fmi = Fmi::load();
+    let (i, s) = init(&fmi, FAST_INTS, FAST_REALS, &[]);
+    println!("{:?}", i.log.borrow());
+    assert_eq!(s, OK, "{:?}", i.log.borrow());
+    assert!(
+        i.logged(
+            WARNING,
+            "belt.nBodies = 40: 2 of the 2 free spans hold fewer than"
+        ) && i.logged(WARNING, "belt.nBodies >= 45 gives every span"),
+        "{:?}",
+        i.log.borrow()
+    );
+    let (i, s) = init(&fmi, &[("belt.nBodies", 60)], FAST_REALS, &[]);
+    assert_eq!(s, OK, "{:?}", i.log.borrow());
+    assert!(!i.logged(WARNING, "belt.nBodies"), "{:?}", i.log.borrow());
+}

@@ -253,7 +253,14 @@ fn load_step_keeps_traction_section3() {
         slip(&a),
         slip(&a0)
     );
-    assert!(d.warnings().is_empty(), "{:?}", d.warnings());
+    // the one warning: the paper's 60 bodies put half the body-passing
+    // frequency on the spans' first transverse mode at the preload
+    // (docs/model.md, "Body passing: when the mesh is too coarse")
+    let w: Vec<String> = d.warnings().iter().map(names::render).collect();
+    assert!(
+        w.len() == 1 && w[0].starts_with("belt.nBodies = 60:"),
+        "{w:?}"
+    );
     // 10 %: the 60-body chain's own extra slip (the polygon effect of
     // creep_speed_loss_and_torque_balance, ~5 % at 80 bodies) plus the
     // ~20 Hz torsional vibration left in the 0.5 s window.
@@ -269,7 +276,8 @@ fn load_step_keeps_traction_section3() {
     assert!(slip(&a0) > 0.1, "undamped slip {}", slip(&a0));
     // as the FMU shows them
     let w: Vec<String> = d0.warnings().iter().map(names::render).collect();
-    assert_eq!(w.len(), 2, "{w:?}");
+    assert_eq!(w.len(), 3, "{w:?}");
     assert!(w[0].contains("contact.pMax = 1e-3 m") && w[0].contains("pulley[1]"));
     assert!(w[1].contains("pulley[2]"));
+    assert!(w[2].starts_with("belt.nBodies = 60:"), "{w:?}");
 }

@@ -5,9 +5,11 @@
 //!   [`Integrator`];
 //! * `mounting`: equilibrium relaxation, arms' free angles, probe body,
 //!   warnings;
+//! * `mesh_check`: the warnings that the mesh is too coarse for the spans;
 //! * `outputs`: [`Outputs`] and how they are recorded.
 
 mod integrator;
+mod mesh_check;
 mod mounting;
 mod outputs;
 

@@ -163,6 +163,7 @@ pub(super) fn warnings(params: &DriveParams, layout: &Layout, sys: &BeltSystem) 
     }
     let c = &sys.contact;
     if c.b <= 0.0 {
+        out.extend(super::mesh_check::warnings(params, layout));
         return out;
     }
     let mut wraps: Vec<_> = layout.wraps.iter().collect();
@@ -219,5 +220,6 @@ pub(super) fn warnings(params: &DriveParams, layout: &Layout, sys: &BeltSystem) 
             ]);
         }
     }
+    out.extend(super::mesh_check::warnings(params, layout));
     out
 }
