@@ -12,64 +12,13 @@ use crate::model::trig;
 use crate::solver::rosenbrock::EnergyBalance;
 
 impl BeltSystem {
+    /// The creep springs' energy of state `y` [J] ([`StoredEnergy::creep`]):
     /// the elastic normal force times the spring energy per newton
-    /// (elements::friction, `Law::spring_energy`). Part of the
-    /// potential energy; the integrated friction work less it is what
-    /// friction has dissipated.
+    /// (elements::friction, `Law::spring_energy`). Part of the potential
+    /// energy; the integrated friction work less it is what friction has
+    /// dissipated.
     pub fn creep_spring_energy(&self, y: &[f64]) -> f64 {
-        let mut centres = [[0.0; 2]; MAX_PULLEYS];
-        for (j, c) in centres.iter_mut().enumerate().take(self.np) {
-            *c = self.pulley_centre(j, y).0;
-        }
-        (0..self.n)
-            .map(|i| self.creep_spring_energy_of(i, y, &centres))
-            .sum()
-    }
-
-    /// [`Self::creep_spring_energy`] of body `i` (pulley centres given).
-    fn creep_spring_energy_of(&self, i: usize, y: &[f64], centres: &[[f64; 2]]) -> f64 {
-        let b = &y[BODY_DOF * i..BODY_DOF * (i + 1)];
-        let zf = self.zone_factor[i];
-        let mut e = 0.0;
-        for (pc, c) in self.pulleys[..self.np].iter().zip(centres) {
-            // the elastic normal force summed over the contact points
-            let elastic =
-                self.point_penetrations(b, c, &pc.radii, |w, p| w * self.contact.elastic_force(p));
-            if elastic > 0.0 {
-                e += elastic
-                    * self
-                        .friction
-                        .spring_energy(b[6], pc.mu_s * zf, pc.mu_k * zf);
-            }
-        }
-        e
-    }
-
-    /// Sum over the contact points of body `b` (`[x, y, phi, ..]`) with
-    /// positive penetration in its contact circle about `c` (`radii`,
-    /// [`contact::point_radii`]) of `f(w, p)`, w the point's share of the
-    /// law ([`contact::quadrature`]).
-    fn point_penetrations(
-        &self,
-        b: &[f64],
-        c: &[f64; 2],
-        radii: &[f64],
-        f: impl Fn(f64, f64) -> f64,
-    ) -> f64 {
-        let (s, co) = b[2].sin_cos();
-        let (hx, hy) = (self.half_length * co, self.half_length * s);
-        contact::quadrature(self.points)
-            .iter()
-            .zip(radii)
-            .map(|(&(xi, w), &radius)| {
-                let p = radius - (b[0] + xi * hx - c[0]).hypot(b[1] + xi * hy - c[1]);
-                if p > 0.0 {
-                    f(w, p)
-                } else {
-                    0.0
-                }
-            })
-            .sum()
+        self.stored_energy(y).creep
     }
 
     /// Kinetic and potential (elastic + gravity) energy of state `y`.
