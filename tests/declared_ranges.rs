@@ -69,7 +69,7 @@ fn initialize_with(fmi: &Fmi, name: &str, x: f64) -> (i32, Vec<String>) {
 fn every_real_bound_is_enforced_where_declared() {
     let fmi = Fmi::load();
     let vars = bounded_reals();
-    // 18 drive parameters and 20 per pulley slot declare ranges
+    // 18 drive parameters and 22 per pulley slot declare ranges
     assert!(vars.len() >= 100, "{} bounded Real parameters", vars.len());
     let mut checked = 0;
     for v in &vars {

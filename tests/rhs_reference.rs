@@ -390,7 +390,9 @@ fn reference_rhs<R: Recorder>(
         mag[q + 3] = hub_mag[j];
     }
     // Tensioner arms: I alpha'' = (c - pivot) x F_hub - k (alpha - alpha_free)
-    // - d alpha' - M_c S(alpha' / w_c), S(u) = u (3 - u^2) / 2 saturated.
+    // - d alpha' - (M_c + mu_h r_f |F_hub|) S(alpha' / w_c), S(u) = u (3 -
+    // u^2) / 2 saturated (the constant pivot friction and the hub-load
+    // friction, docs/model.md).
     for (j, c) in centre.iter().enumerate().take(np) {
         let pc = &s.pulleys()[j];
         let Some(arm) = &pc.arm else { continue };
@@ -408,10 +410,14 @@ fn reference_rhs<R: Recorder>(
         let spring = -arm.stiffness * (a - arm.free_angle);
         let damper = arm.damping * w;
         let u = (w / FRICTION_RATE).clamp(-1.0, 1.0);
-        let friction = arm.friction * 0.5 * u * (3.0 - u * u);
+        let s_u = 0.5 * u * (3.0 - u * u);
+        let friction = (arm.friction + arm.hub_friction * hub[j][0].hypot(hub[j][1])) * s_u;
         dy[o + 1] = (moment + spring - damper - friction) / arm.inertia;
-        mag[o + 1] =
-            (arm.length * hub_mag[j] + spring.abs() + damper.abs() + friction.abs()) / arm.inertia;
+        mag[o + 1] = (arm.length * hub_mag[j]
+            + spring.abs()
+            + damper.abs()
+            + (arm.friction + arm.hub_friction * hub_mag[j]) * s_u.abs())
+            / arm.inertia;
         p_diss += (damper + friction) * w;
         p_diss_mag += (damper * w).abs() + (friction * w).abs();
     }
@@ -798,9 +804,10 @@ fn drives() -> Vec<(&'static str, DriveParams)> {
     // the default SDE: damping across the gap as along it
     accessory.belt.shear_damping_factor = 1.0;
     // the same with the back-side idler and the last pulley (inside the
-    // loop) on tensioner arms with damper and pivot friction
+    // loop) on tensioner arms with damper and pivot friction, the last
+    // one's also growing with its hub load (coefficient 0.3 at 20 mm)
     let mut arms = accessory.clone();
-    for (j, pivot) in [(1, [0.15, 0.17]), (3, [0.38, -0.05])] {
+    for (j, pivot, hub_friction) in [(1, [0.15, 0.17], 0.0), (3, [0.38, -0.05], 0.3)] {
         let q = &mut arms.pulleys[j];
         q.arm = Some(TensionerArm {
             pivot,
@@ -808,6 +815,8 @@ fn drives() -> Vec<(&'static str, DriveParams)> {
             stiffness: 35.0,
             damping: 0.05,
             friction: 2.0,
+            hub_friction,
+            friction_radius: 0.02,
             ..Default::default()
         });
     }

@@ -150,6 +150,9 @@ fn bad_arm_parameters_are_refused_by_name() {
         ("pulley[2].arm.stiffness", 0.0, "pulley[2].arm.stiffness"),
         ("pulley[2].arm.damping", -0.1, "pulley[2].arm.damping"),
         ("pulley[2].arm.friction", -1.0, "pulley[2].arm.friction"),
+        ("pulley[2].arm.hubFriction", -0.1, "pulley[2].arm.hubFriction"),
+        // a hub-load friction coefficient without its radius
+        ("pulley[2].arm.hubFriction", 0.3, "pulley[2].arm.frictionRadius"),
         ("pulley[2].arm.pivot.x", f64::NAN, "pulley[2].arm.pivot.x"),
         ("pulley[2].arm.pivot.y", 2e3, "pulley[2].arm.pivot.y"),
         // the pivot at the pulley centre: no arm

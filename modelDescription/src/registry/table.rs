@@ -452,6 +452,19 @@ pub static REGISTRY: &[Item] = &[
                 .about("Arm angle at which the spring exerts arm.nominalTorque, from the arm as drawn (pulley[j].x/y), counterclockwise positive; used only with arm.nominalTorque > 0 (slot {j})"),
         ],
     ),
+    Item::Slots(
+        None,
+        &[
+            param("pulley[#].arm.hubFriction", Vr::Pulley(47), Ty::Real("FrictionCoefficient"), &["0"])
+                .min("0")
+                .id("PulleyArmHubFriction", "tensioner hub-load friction coefficient")
+                .about("Friction coefficient of the tensioner's hub-load (asymmetric) damping: a pivot friction torque arm.hubFriction x |hub force| x arm.frictionRadius, regularised as arm.friction over 0.01 rad/s, beside the constant arm.friction; it grows with the belt's load on the pulley, as the damping of automotive tensioners does (0 = none) (slot {j})"),
+            param("pulley[#].arm.frictionRadius", Vr::Pulley(48), Ty::Real("Length"), &["0"])
+                .min("0")
+                .id("PulleyArmFrictionRadius", "tensioner friction radius")
+                .about("Radius at which the tensioner's hub-load friction acts (its damping bushing or friction shoe), > 0 when arm.hubFriction is (slot {j})"),
+        ],
+    ),
     Item::Array(calculated("pulley[#].arm.installedAngle", Vr::PulleyOutput(26), Ty::Real("Angle"))
         .about("Angle of the installed tensioner arm of pulley {j} from where it is drawn (pulley[j].x/y), counterclockwise positive: found by the mounting when the spring is given by arm.nominalTorque, else 0. arm.angle and arm.freeAngle count from the installed arm: add this angle to read them from the drawing (slot {j})")),
 ];

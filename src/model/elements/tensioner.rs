@@ -18,6 +18,12 @@
 //! adds to the spring when the arm is pushed back (belt tension rising)
 //! and subtracts from it when the arm follows the belt.
 //!
+//! Hub-load friction (optional): damping that grows with the hub load, as in
+//! automotive tensioners whose damping bushing or friction shoe is pressed
+//! by the hub force: a pivot friction torque mu_h r_f |F_hub| S(alpha' /
+//! w_c) beside the constant M_c, regularised alike ([`Arm::hub_friction`]:
+//! torque, partials in the rate and the hub force, dissipation).
+//!
 //! End stops (optional, [`Stops`]): past a stop angle by delta the arm meets
 //! a stiff, damped contact, `M_stop = max(0, k_s delta + d_s w(delta /
 //! delta_r) delta')` pushing it back (delta' the rate of penetration, w the
@@ -71,6 +77,11 @@ pub struct TensionerArm {
     pub damping: f64,
     /// Coulomb friction torque of the pivot [N m].
     pub friction: f64,
+    /// Friction coefficient of the hub-load friction mu_h [-]: a pivot
+    /// friction torque mu_h |F_hub| r_f besides `friction`.
+    pub hub_friction: f64,
+    /// Radius r_f at which the hub-load friction acts [m].
+    pub friction_radius: f64,
     /// End stops, if the arm has them.
     pub stops: Option<ArmStops>,
     /// The spring as a catalogue gives it, a torque at a nominal arm angle
@@ -179,6 +190,8 @@ impl TensionerArm {
             stiffness: v(Param::PulleyArmStiffness(j)),
             damping: v(Param::PulleyArmDamping(j)),
             friction: v(Param::PulleyArmFriction(j)),
+            hub_friction: v(Param::PulleyArmHubFriction(j)),
+            friction_radius: v(Param::PulleyArmFrictionRadius(j)),
             stops: (v(Param::PulleyArmStops(j)) != 0.0).then(|| ArmStops::read(j, v)),
             nominal: NominalSpring::read(j, v),
         }
@@ -193,6 +206,8 @@ impl TensionerArm {
             (Param::PulleyArmStiffness(j), self.stiffness),
             (Param::PulleyArmDamping(j), self.damping),
             (Param::PulleyArmFriction(j), self.friction),
+            (Param::PulleyArmHubFriction(j), self.hub_friction),
+            (Param::PulleyArmFrictionRadius(j), self.friction_radius),
         ];
         if let Some(s) = &self.stops {
             v.extend(s.values(j));
@@ -243,6 +258,21 @@ impl TensionerArm {
                 s.min_angle,
             )?;
         }
+        // a hub-load friction coefficient without the radius it acts at
+        // would do nothing: refused, not ignored
+        check(
+            self.hub_friction == 0.0 || self.friction_radius > 0.0,
+            Param::PulleyArmFrictionRadius(j),
+            msg![
+                "> 0 with ",
+                Param::PulleyArmHubFriction(j),
+                format!(
+                    " = {} (the friction torque is coefficient x hub force x radius)",
+                    self.hub_friction
+                ),
+            ],
+            self.friction_radius,
+        )?;
         if let Some(n) = &self.nominal {
             // a nominal angle alone says nothing about the spring: refused,
             // not ignored
@@ -376,12 +406,26 @@ pub struct Arm {
     pub damping: f64,
     /// Coulomb friction torque of the pivot [N m].
     pub friction: f64,
+    /// Hub-load friction mu_h r_f [m]: friction torque per newton of hub
+    /// force.
+    pub hub_friction: f64,
     /// End stops, if any.
     pub stops: Option<Stops>,
     /// The spring as given by its torque at a nominal angle (in the frame
     /// of the mounted arm), if it is; else its free angle follows from the
     /// belt's moment at mounting.
     pub nominal: Option<NominalSpring>,
+}
+
+/// Hub-load friction torque on the arm and its partial derivatives.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct HubFriction {
+    /// Torque on the arm [N m].
+    pub torque: f64,
+    /// d torque / d alpha' [N m s/rad].
+    pub d_rate: f64,
+    /// d torque / d F_hub (x, y) [m].
+    pub d_force: [f64; 2],
 }
 
 /// Torque of the arm's own elements and its partial derivatives.
@@ -409,6 +453,7 @@ impl Arm {
             free_angle: 0.0,
             damping: 0.0,
             friction: 0.0,
+            hub_friction: 0.0,
             stops: None,
             nominal: None,
         }
@@ -422,6 +467,7 @@ impl Arm {
             stiffness: p.stiffness,
             damping: p.damping,
             friction: p.friction,
+            hub_friction: p.hub_friction * p.friction_radius,
             stops: p
                 .stops
                 .as_ref()
@@ -451,6 +497,38 @@ impl Arm {
             t.d_rate += d_rate;
         }
         t
+    }
+
+    /// Hub-load friction at arm rate `rate` under the belt's hub force
+    /// `hub` (the force on the pulley's hub, [N]): -mu_h r_f |F_hub|
+    /// S(alpha' / w_c), the pivot friction's S-curve and rate (its partial
+    /// in F_hub is -mu_h r_f S F_hub / |F_hub|; none at a zero hub force,
+    /// where |F| has no derivative and the torque vanishes).
+    #[inline(always)]
+    pub fn hub_friction(&self, rate: f64, hub: [f64; 2]) -> HubFriction {
+        if self.hub_friction == 0.0 {
+            return HubFriction::default();
+        }
+        let f = hub[0].hypot(hub[1]);
+        let u = rate / FRICTION_RATE;
+        let (s, ds) = (s_curve(u), s_curve_slope(u) / FRICTION_RATE);
+        let m = self.hub_friction;
+        let d_force = if f > 0.0 {
+            [-m * s * hub[0] / f, -m * s * hub[1] / f]
+        } else {
+            [0.0; 2]
+        };
+        HubFriction {
+            torque: -m * f * s,
+            d_rate: -m * f * ds,
+            d_force,
+        }
+    }
+
+    /// Power the hub-load friction dissipates at `rate` under the hub force
+    /// `hub` [W] (>= 0: the S-curve is odd).
+    pub fn hub_friction_dissipation(&self, rate: f64, hub: [f64; 2]) -> f64 {
+        -self.hub_friction(rate, hub).torque * rate
     }
 
     /// Elastic energy of the spring and the end stops [J].
@@ -582,6 +660,43 @@ mod tests {
         let m_belt = a.moment(0.0, [300.0, 150.0]).0;
         a.free_angle = a.free_angle_for(m_belt);
         assert!((a.spring_torque(0.0) + m_belt).abs() < 1e-12);
+    }
+
+    /// The hub-load friction's partials against central differences of
+    /// itself (in the ramp and beyond it), its dissipation >= 0 and its
+    /// torque mu_h r_f |F| once sliding.
+    #[test]
+    fn hub_friction_partials_and_dissipation() {
+        let mut a = arm();
+        a.hub_friction = 0.3 * 0.02;
+        let hub = [-310.0, 420.0];
+        let f = 310.0f64.hypot(420.0);
+        for &v in &[0.004, -0.007, 0.3, -2.0] {
+            let h = a.hub_friction(v, hub);
+            let hv = 1e-9;
+            let fd_v = (a.hub_friction(v + hv, hub).torque - a.hub_friction(v - hv, hub).torque)
+                / (2.0 * hv);
+            // truncation 1.5 m |F| / w_c^3 hv^2 ~ 2e-12 relative, rounding
+            // eps |torque| / hv ~ 1e-6 against slopes >= 1e-2 (0 beyond
+            // the ramp): 1e-6 of the ramp's slope
+            let scale = a.hub_friction * f * 1.5 / FRICTION_RATE;
+            assert!((fd_v - h.d_rate).abs() <= 1e-6 * scale, "{fd_v} {h:?}");
+            for i in 0..2 {
+                let mut p = hub;
+                let mut m = hub;
+                p[i] += 1e-4;
+                m[i] -= 1e-4;
+                let fd = (a.hub_friction(v, p).torque - a.hub_friction(v, m).torque) / 2e-4;
+                // |F| is smooth at 500 N: truncation ~1e-4^2 / 500 relative
+                assert!((fd - h.d_force[i]).abs() <= 1e-8, "{fd} {h:?}");
+            }
+            assert!(a.hub_friction_dissipation(v, hub) >= 0.0);
+        }
+        // sliding: the full mu_h r_f |F| against the motion
+        let h = a.hub_friction(0.3, hub);
+        assert!((h.torque + 0.006 * f).abs() < 1e-12, "{h:?}");
+        // none without the coefficient
+        assert_eq!(arm().hub_friction(0.3, hub), HubFriction::default());
     }
 
     fn stopped() -> Arm {

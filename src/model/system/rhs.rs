@@ -426,8 +426,9 @@ impl BeltSystem {
                 continue;
             }
             let moment = arm.moment(a, hub[j]).0;
-            dy[o + 1] = (moment + arm.torque(a, w).torque) / arm.inertia;
-            *p_diss += arm.dissipation(a, w);
+            let hub_friction = arm.hub_friction(w, hub[j]).torque;
+            dy[o + 1] = (moment + arm.torque(a, w).torque + hub_friction) / arm.inertia;
+            *p_diss += arm.dissipation(a, w) - hub_friction * w;
         }
     }
 

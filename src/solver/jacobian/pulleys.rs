@@ -4,6 +4,7 @@
 use super::{DecouplerJacobian, Jacobian};
 use crate::model::params::MAX_PULLEYS;
 use crate::model::system::{BeltSystem, PulleyConst};
+use nalgebra::Vector2;
 
 impl BeltSystem {
     /// The pulleys' load damping and the decouplers' rows.
@@ -72,9 +73,34 @@ impl BeltSystem {
             let (a, w) = (y[pc.arm_offset], y[pc.arm_offset + 1]);
             let own = arm.torque(a, w);
             let inv = inv_arm[j];
+            // the hub-load friction through the arm's rate and, by the hub
+            // force F_hub, through every state F_hub depends on: the arm's
+            // angle and rate, the pulley's speed and the bodies on the
+            // pulley (the hub-force impulse's rows)
+            let hf = arm.hub_friction(w, hub_force[j]);
+            let df = Vector2::new(hf.d_force[0], hf.d_force[1]) * inv;
             let aj = &mut jac.arms[j];
-            aj.arm_accel_by_angle += (own.d_angle + arm.moment(a, hub_force[j]).1) * inv;
-            aj.arm_accel_by_rate += own.d_rate * inv;
+            aj.arm_accel_by_angle +=
+                (own.d_angle + arm.moment(a, hub_force[j]).1) * inv + df.dot(&aj.hub_by_arm_angle);
+            aj.arm_accel_by_rate += (own.d_rate + hf.d_rate) * inv + df.dot(&aj.hub_by_arm_rate);
+            if df != Vector2::zeros() {
+                aj.arm_accel_by_pulley_speed += df.dot(&jac.hub_by_pulley_speed[j]);
+                let bit = 1u8 << j;
+                for ((b, imp), ab) in jac
+                    .bodies
+                    .iter()
+                    .zip(&jac.impulse)
+                    .zip(jac.arm_bodies.iter_mut())
+                {
+                    if b.touching & bit == 0 {
+                        continue;
+                    }
+                    let c = &imp[j];
+                    ab.arm_accel_by_position[j] += df.transpose() * c.hub_by_position;
+                    ab.arm_accel_by_velocity[j] += df.transpose() * c.hub_by_velocity;
+                    ab.arm_accel_by_creep[j] += df.dot(&c.hub_by_creep);
+                }
+            }
         }
     }
 }

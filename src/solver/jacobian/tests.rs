@@ -288,12 +288,18 @@ fn jacobian_covers_the_tensioner_arm() {
         max_angle: 1e-4,
         ..ArmStops::default()
     };
-    for (law, speed_driven, stops) in [
-        (FrictionLaw::Creep, false, None),
-        (FrictionLaw::Kubas2014, false, None),
-        (FrictionLaw::Creep, true, None),
-        (FrictionLaw::Creep, false, Some(stops)),
-        (FrictionLaw::Kubas2014, true, Some(stops)),
+    // hub-load friction (coefficient 0.3 at 20 mm) with and beside the
+    // constant pivot friction: its torque mu_h r_f |F_hub| moves with every
+    // state the hub force depends on (the bodies on the pulley, the arm,
+    // the pulley's speed)
+    for (law, speed_driven, stops, hub_friction) in [
+        (FrictionLaw::Creep, false, None, 0.0),
+        (FrictionLaw::Kubas2014, false, None, 0.0),
+        (FrictionLaw::Creep, true, None, 0.0),
+        (FrictionLaw::Creep, false, Some(stops), 0.0),
+        (FrictionLaw::Kubas2014, true, Some(stops), 0.0),
+        (FrictionLaw::Creep, false, None, 0.3),
+        (FrictionLaw::Kubas2014, true, Some(stops), 0.3),
     ] {
         let mut p = drive(law, false).params().clone();
         // the arm carries pulley 2 (0.25, 0) from a pivot 80 mm above
@@ -304,6 +310,8 @@ fn jacobian_covers_the_tensioner_arm() {
             stiffness: 40.0,
             damping: 0.05,
             friction: 1.5,
+            hub_friction,
+            friction_radius: 0.02,
             stops,
             ..Default::default()
         });
