@@ -8,13 +8,21 @@
 //! ```text
 //! cargo run --release --features modes --example modes -- [--ssv FILE] [--set NAME=VALUE ...]
 //!     [--speeds FROM:TO:N] [--at TIME] [--fmax HZ] [--out FILE] [--frozen]
+//!     [--arm-amplitude DEG]
 //! ```
+//!
+//! `--arm-amplitude DEG` (default 0.5): the swing of the tensioner arms at
+//! which their pivot friction is replaced by its describing function in the
+//! analysis about one instant (at rest and `--frozen`; docs/modes.md,
+//! "Frictional tensioner arms"); 0 linearises the friction law as it is.
 //!
 //! `--frozen`: at running speeds, the frozen-time approximation (one
 //! instant's Jacobian with the belt's transport) instead of the Floquet
 //! analysis.
 
-use belt_drive::modes::{adapter, analyse, floquet, params, Modes, Options, FLOQUET_SUBSTEPS};
+use belt_drive::modes::{
+    adapter, analyse_drive, floquet, params, Modes, Options, ARM_AMPLITUDE, FLOQUET_SUBSTEPS,
+};
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -28,10 +36,11 @@ struct Args {
     fmax: f64,
     out: PathBuf,
     frozen: bool,
+    arm_amplitude: f64,
 }
 
 const USAGE: &str = "usage: modes [--ssv FILE] [--set NAME=VALUE ...] [--speeds FROM:TO:N] \
-                     [--at TIME] [--fmax HZ] [--out FILE] [--frozen]";
+                     [--at TIME] [--fmax HZ] [--out FILE] [--frozen] [--arm-amplitude DEG]";
 
 fn parse() -> Result<Args, String> {
     let mut a = Args {
@@ -42,6 +51,7 @@ fn parse() -> Result<Args, String> {
         fmax: 2000.0,
         out: PathBuf::from("dist/modes.csv"),
         frozen: false,
+        arm_amplitude: ARM_AMPLITUDE,
     };
     let mut it = std::env::args().skip(1);
     while let Some(k) = it.next() {
@@ -59,6 +69,13 @@ fn parse() -> Result<Args, String> {
             "--fmax" => a.fmax = num(val()?, "--fmax")?,
             "--out" => a.out = PathBuf::from(val()?),
             "--frozen" => a.frozen = true,
+            "--arm-amplitude" => {
+                let deg = num(val()?, "--arm-amplitude")?;
+                if !(deg >= 0.0 && deg.is_finite()) {
+                    return Err(format!("--arm-amplitude {deg}: degrees >= 0"));
+                }
+                a.arm_amplitude = deg.to_radians();
+            }
             "--speeds" => {
                 let s = val()?;
                 let p: Vec<&str> = s.split(':').collect();
@@ -87,6 +104,7 @@ fn run() -> Result<(), String> {
     let mut rows: Vec<(f64, Modes)> = Vec::new();
     let opts = Options {
         max_frequency_hz: a.fmax,
+        arm_amplitude: a.arm_amplitude,
         ..Options::default()
     };
     let speeds: Vec<Option<f64>> = match a.speeds {
@@ -123,12 +141,33 @@ fn run() -> Result<(), String> {
         let mut drive = adapter::build(&p)?;
         adapter::run_to(&mut drive, at)?;
         let t_run = t0.elapsed().as_secs_f64();
-        let lin = adapter::linearise(&drive);
         let t1 = Instant::now();
         let modes = if !a.frozen && o.transport {
             floquet(&drive, &o, FLOQUET_SUBSTEPS)?
         } else {
-            analyse(&lin, &o)?
+            let (modes, swings) = analyse_drive(&drive, &o)?;
+            for s in swings {
+                if s.stuck {
+                    eprintln!(
+                        "arm {}: pivot friction {:.3} N m sticks it at a swing of {:.3} deg \
+                         (no oscillating arm mode)",
+                        s.pulley,
+                        s.friction_torque,
+                        o.arm_amplitude.to_degrees()
+                    );
+                } else {
+                    eprintln!(
+                        "arm {}: pivot friction {:.3} N m at a swing of {:.3} deg and {:.2} Hz \
+                         acts as a damper of {:.4} N m s/rad (describing function)",
+                        s.pulley,
+                        s.friction_torque,
+                        o.arm_amplitude.to_degrees(),
+                        s.frequency_hz,
+                        s.equivalent_damping
+                    );
+                }
+            }
+            modes
         };
         let w = speed.unwrap_or(0.0);
         if let Some(orbit) = &modes.orbit {

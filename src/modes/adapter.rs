@@ -2,6 +2,8 @@
 //! run it, and read its state, its state layout and its dense Jacobian.
 //! Everything else in `modes` works on the [`Linearisation`] this returns.
 
+use crate::model::elements::Arm;
+use crate::model::params::MAX_PULLEYS;
 use crate::model::system::BODY_DOF;
 use crate::solver::jacobian::Jacobian;
 use crate::{Drive, DriveParams};
@@ -129,11 +131,70 @@ pub fn run_to(drive: &mut Drive, t: f64) -> Result<(), String> {
 
 /// State, layout and analytic Jacobian of the drive now.
 pub fn linearise(drive: &Drive) -> Linearisation {
+    linearise_with(drive, &[None; MAX_PULLEYS])
+}
+
+/// The pivot friction of every tensioner arm at the drive's state now:
+/// its torque scale M_f = M_c + mu_h r_f |F_hub| [N m] (0 without an
+/// arm), for the describing function ([`Arm::friction_describing`]).
+pub fn arm_friction(drive: &Drive) -> [f64; MAX_PULLEYS] {
+    let mut out = [0.0; MAX_PULLEYS];
+    let o = drive.clone().outputs();
+    for (j, pc) in drive.system().pulleys().iter().enumerate() {
+        if let Some(arm) = &pc.arm {
+            out[j] = arm.friction_torque(o.pulleys[j].hub_force);
+        }
+    }
+    out
+}
+
+/// The equivalent viscous damping [N m s/rad] of the pivot friction of
+/// the arm carrying pulley `j` (0-based) at the drive's state now, for an
+/// arm rate swinging with amplitude `rate_amplitude` [rad/s]
+/// ([`Arm::friction_describing`]); 0 without an arm.
+pub fn arm_describing(drive: &Drive, j: usize, rate_amplitude: f64) -> f64 {
+    let hub = drive.clone().outputs().pulleys[j].hub_force;
+    drive.system().pulleys()[j]
+        .arm
+        .as_ref()
+        .map_or(0.0, |a: &Arm| a.friction_describing(hub, rate_amplitude))
+}
+
+/// [`linearise`] with the pivot friction of arm j (constant and hub-load)
+/// replaced, where `equivalent[j]` is given, by a viscous damper of that
+/// rate [N m s/rad] (the describing function of the friction at an
+/// amplitude of the arm's swing, `modes::describing`): the Jacobian is
+/// taken with the arm's friction off (the regularised law's slope and its
+/// hub-force couplings gone) and -c / I_arm added to the arm's
+/// acceleration by its rate. Nothing else depends on the pivot friction.
+pub fn linearise_with(drive: &Drive, equivalent: &[Option<f64>; MAX_PULLEYS]) -> Linearisation {
     let sys = drive.system();
     let y = drive.state().to_vec();
     let t = drive.time();
-    let mut jac = Jacobian::new(sys);
-    sys.jacobian(t, &y, &mut jac);
+    let frictionless;
+    let jac_sys = if equivalent.iter().any(Option::is_some) {
+        let mut s = sys.clone();
+        for (pc, c) in s.pulleys.iter_mut().zip(equivalent) {
+            if let (Some(arm), Some(_)) = (pc.arm.as_mut(), c) {
+                arm.friction = 0.0;
+                arm.hub_friction = 0.0;
+            }
+        }
+        frictionless = s;
+        &frictionless
+    } else {
+        sys
+    };
+    let mut jac = Jacobian::new(jac_sys);
+    jac_sys.jacobian(t, &y, &mut jac);
+    let mut dense = jac.to_dense(jac_sys);
+    let dim = sys.dim();
+    for (pc, c) in sys.pulleys().iter().zip(equivalent) {
+        if let (Some(arm), Some(c)) = (&pc.arm, c) {
+            let r = pc.arm_offset + 1;
+            dense[r * dim + r] -= c / arm.inertia;
+        }
+    }
     let layout = drive.layout();
     let pulleys = drive
         .params()
@@ -168,7 +229,7 @@ pub fn linearise(drive: &Drive) -> Linearisation {
     Linearisation {
         time: t,
         contact,
-        jacobian: jac.to_dense(sys),
+        jacobian: dense,
         dim: sys.dim(),
         n: sys.n_bodies(),
         mass: sys.mass(),

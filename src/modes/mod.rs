@@ -44,7 +44,16 @@ pub struct Options {
     pub transport: bool,
     /// Natural frequencies below this count as zero modes (rigid motion) [Hz].
     pub zero_frequency_hz: f64,
+    /// Angle amplitude of the tensioner arms' swing [rad] at which
+    /// [`analyse_drive`] replaces their pivot friction by its describing
+    /// function; 0 linearises the regularised friction law as it is.
+    pub arm_amplitude: f64,
 }
+
+/// The arm swing a designer reads a tensioner's mode at by default:
+/// 0.5 deg (automotive arms swing by tenths of a degree to a degree at
+/// idle).
+pub const ARM_AMPLITUDE: f64 = 0.5 * std::f64::consts::PI / 180.0;
 
 impl Default for Options {
     fn default() -> Self {
@@ -52,8 +61,103 @@ impl Default for Options {
             max_frequency_hz: 2000.0,
             transport: false,
             zero_frequency_hz: 0.5,
+            arm_amplitude: ARM_AMPLITUDE,
         }
     }
+}
+
+/// A frictional tensioner arm in a describing-function analysis
+/// ([`analyse_drive`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ArmSwing {
+    /// The pulley the arm carries (1-based).
+    pub pulley: usize,
+    /// Its pivot friction's torque M_c + mu_h r_f |F_hub| [N m].
+    pub friction_torque: f64,
+    /// Frequency of the swing the damping is taken at: the arm mode's
+    /// damped frequency, iterated to consistency [Hz].
+    pub frequency_hz: f64,
+    /// The friction's equivalent viscous damping at that swing [N m s/rad].
+    pub equivalent_damping: f64,
+    /// No oscillating mode carries the arm at this amplitude: the friction
+    /// overdamps it (below break-away the arm sticks).
+    pub stuck: bool,
+}
+
+/// Share of a mode's kinetic energy in the swing of the arm carrying
+/// pulley `j` (0-based).
+fn arm_share(m: &Mode, j: usize) -> f64 {
+    m.shares
+        .iter()
+        .find(|(p, _)| *p == Part::Arm(j + 1))
+        .map_or(0.0, |(_, e)| *e)
+}
+
+/// Modes of `drive` at its state now ([`adapter::linearise`] and
+/// [`analyse`]), with the pivot friction of its tensioner arms replaced by
+/// the describing function of the friction at `opts.arm_amplitude`
+/// (docs/modes.md, "Frictional tensioner arms"): a Coulomb friction of
+/// torque M_f swinging at angle amplitude A and angular frequency omega
+/// dissipates per cycle what a viscous damper c = 4 M_f / (pi omega A)
+/// does ([`crate::model::elements::Arm::friction_describing`], the
+/// regularised law's own). omega is the arm mode's damped frequency:
+/// started from the frictionless arm's, iterated until it changes by less
+/// than 1e-6 (at most 50 times); an arm whose mode the friction overdamps
+/// is reported `stuck` (the modes then those with its friction at the
+/// last frequency). Without frictional arms or with `arm_amplitude` 0:
+/// [`analyse`] of [`adapter::linearise`].
+pub fn analyse_drive(
+    drive: &crate::Drive,
+    opts: &Options,
+) -> Result<(Modes, Vec<ArmSwing>), String> {
+    use crate::model::params::MAX_PULLEYS;
+    let friction = adapter::arm_friction(drive);
+    let arms: Vec<usize> = (0..MAX_PULLEYS).filter(|&j| friction[j] > 0.0).collect();
+    if arms.is_empty() || opts.arm_amplitude == 0.0 {
+        return Ok((analyse(&adapter::linearise(drive), opts)?, Vec::new()));
+    }
+    let mut equivalent = [None; MAX_PULLEYS];
+    for &j in &arms {
+        equivalent[j] = Some(0.0);
+    }
+    let mut swings: Vec<ArmSwing> = arms
+        .iter()
+        .map(|&j| ArmSwing {
+            pulley: j + 1,
+            friction_torque: friction[j],
+            frequency_hz: 0.0,
+            equivalent_damping: 0.0,
+            stuck: false,
+        })
+        .collect();
+    let mut modes = analyse(&adapter::linearise_with(drive, &equivalent), opts)?;
+    for _ in 0..50 {
+        let mut moved: f64 = 0.0;
+        for s in swings.iter_mut().filter(|s| !s.stuck) {
+            let j = s.pulley - 1;
+            // the oscillating mode that swings the arm most; none carrying
+            // half its energy in the arm: overdamped, the arm sticks
+            let best = modes
+                .modes
+                .iter()
+                .max_by(|a, b| arm_share(a, j).total_cmp(&arm_share(b, j)))
+                .filter(|m| arm_share(m, j) >= 0.5);
+            let Some(m) = best else {
+                s.stuck = true;
+                continue;
+            };
+            let f = m.damped_hz;
+            moved = moved.max((f / s.frequency_hz - 1.0).abs());
+            s.frequency_hz = f;
+            s.equivalent_damping = adapter::arm_describing(drive, j, TAU * f * opts.arm_amplitude);
+            equivalent[j] = Some(s.equivalent_damping);
+        }
+        modes = analyse(&adapter::linearise_with(drive, &equivalent), opts)?;
+        if moved < 1e-6 {
+            break;
+        }
+    }
+    Ok((modes, swings))
 }
 
 /// What moves most in a mode (by kinetic energy).

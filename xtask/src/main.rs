@@ -29,7 +29,8 @@
 //!   `docs/benchmarks.md` (see `bench.rs`).
 //! * `model-description` - writes `modelDescription/modelDescription.xml`
 //!   from the registry (`modelDescription/src/registry/table.rs`).
-//! * `modes -- [--ssv FILE] [--set NAME=VALUE ...] [--speeds FROM:TO:N] [--at TIME] [--range LO:HI]`:
+//! * `modes -- [--ssv FILE] [--set NAME=VALUE ...] [--speeds FROM:TO:N] [--at TIME] [--range LO:HI]
+//!   [--arm-amplitude DEG]`:
 //!   the modal analysis (`examples/modes.rs`), `dist/modes.csv` and, with
 //!   `--speeds`, the Campbell diagram `dist/campbell.png` (docs/modes.md).
 //! * `layout -- [--ssv FILE] [--set NAME=VALUE ...] [--names A,B,...] [--out FILE.svg]`:

@@ -531,6 +531,45 @@ impl Arm {
         -self.hub_friction(rate, hub).torque * rate
     }
 
+    /// The pivot friction's torque scale under the hub force `hub`: M_c +
+    /// mu_h r_f |F_hub| [N m], the Coulomb torque once the arm slides.
+    pub fn friction_torque(&self, hub: [f64; 2]) -> f64 {
+        self.friction + self.hub_friction * hub[0].hypot(hub[1])
+    }
+
+    /// Equivalent viscous damping [N m s/rad] of the pivot friction
+    /// (constant and hub-load) for an arm rate swinging as V sin(omega t)
+    /// under the hub force `hub`: the describing function of the law, its
+    /// first harmonic over the amplitude, N(V) = (2 M_f / (pi V))
+    /// int_0^pi S(V sin(th) / w_c) sin(th) dth with M_f =
+    /// [`Self::friction_torque`] (the hub force's own swing left out:
+    /// sgn(alpha') times a swing of |F_hub| at the same frequency has no
+    /// first harmonic in phase with alpha' beyond second order). In closed
+    /// form, a = w_c / V: for V <= w_c (inside the ramp) M_f / w_c (3/2 -
+    /// 3/8 V^2 / w_c^2); beyond it, with th0 = asin(a), (4 M_f / (pi V))
+    /// times cos th0 + (3 / (2a)) (th0 - sin th0 cos th0) / 2 - (1 /
+    /// (2a^3)) (3 th0 / 8 - sin 2th0 / 4 + sin 4th0 / 32), which tends to
+    /// the Coulomb law's 4 M_f / (pi V) as V grows. V = omega A for an
+    /// angle amplitude A.
+    pub fn friction_describing(&self, hub: [f64; 2], rate_amplitude: f64) -> f64 {
+        let m = self.friction_torque(hub);
+        let v = rate_amplitude.abs();
+        if m == 0.0 {
+            return 0.0;
+        }
+        if v <= FRICTION_RATE {
+            let u = v / FRICTION_RATE;
+            return m / FRICTION_RATE * (1.5 - 0.375 * u * u);
+        }
+        let a = FRICTION_RATE / v;
+        let t0 = a.asin();
+        let (s0, c0) = t0.sin_cos();
+        let sin2 = 0.5 * (t0 - s0 * c0);
+        let sin4 = 0.375 * t0 - 0.25 * (2.0 * t0).sin() + (4.0 * t0).sin() / 32.0;
+        let half = c0 + 1.5 / a * sin2 - 0.5 / (a * a * a) * sin4;
+        4.0 * m / (std::f64::consts::PI * v) * half
+    }
+
     /// Elastic energy of the spring and the end stops [J].
     pub fn energy(&self, angle: f64) -> f64 {
         let e = angle - self.free_angle;
@@ -697,6 +736,46 @@ mod tests {
         assert!((h.torque + 0.006 * f).abs() < 1e-12, "{h:?}");
         // none without the coefficient
         assert_eq!(arm().hub_friction(0.3, hub), HubFriction::default());
+    }
+
+    /// The describing function against the first harmonic of the law
+    /// itself (midpoint rule, 20,000 points: ~1e-8), inside and beyond the
+    /// ramp; it tends to 4 M_f / (pi V) and is continuous at V = w_c.
+    #[test]
+    fn friction_describing_is_the_laws_first_harmonic() {
+        let mut a = arm();
+        a.friction = 0.7;
+        a.hub_friction = 0.3 * 0.02;
+        let hub = [-310.0, 420.0];
+        let m = a.friction_torque(hub);
+        assert!((m - (0.7 + 0.006 * 310.0f64.hypot(420.0))).abs() < 1e-12);
+        for v in [0.003, 0.01, 0.0101, 0.02, 0.3, 5.0] {
+            let n = 20_000;
+            let h = std::f64::consts::PI / n as f64;
+            let first: f64 = (0..n)
+                .map(|i| {
+                    let th = (i as f64 + 0.5) * h;
+                    // the friction alone: the torque less the spring's
+                    // constant and the damper's d alpha'
+                    let w = v * th.sin();
+                    a.torque(0.0, 0.0).torque
+                        - a.torque(0.0, w).torque
+                        - a.damping * w
+                        - a.hub_friction(w, hub).torque
+                })
+                .zip((0..n).map(|i| ((i as f64 + 0.5) * h).sin()))
+                .map(|(t, s)| t * s * h)
+                .sum::<f64>()
+                * 2.0
+                / (std::f64::consts::PI * v);
+            let d = a.friction_describing(hub, v);
+            assert!((d / first - 1.0).abs() < 1e-6, "V {v}: {d} vs {first}");
+        }
+        let coulomb = 4.0 * m / (std::f64::consts::PI * 5.0);
+        assert!((a.friction_describing(hub, 5.0) / coulomb - 1.0).abs() < 1e-5);
+        let below = a.friction_describing(hub, FRICTION_RATE * (1.0 - 1e-12));
+        let above = a.friction_describing(hub, FRICTION_RATE * (1.0 + 1e-12));
+        assert!((below / above - 1.0).abs() < 1e-9, "{below} {above}");
     }
 
     fn stopped() -> Arm {
