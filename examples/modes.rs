@@ -8,7 +8,7 @@
 //! ```text
 //! cargo run --release --features modes --example modes -- [--ssv FILE] [--set NAME=VALUE ...]
 //!     [--speeds FROM:TO:N] [--at TIME] [--fmax HZ] [--out FILE] [--frozen]
-//!     [--arm-amplitude DEG]
+//!     [--arm-amplitude DEG] [--idle-loads]
 //! ```
 //!
 //! `--arm-amplitude DEG` (default 0.5): the swing of the tensioner arms at
@@ -18,10 +18,15 @@
 //!
 //! `--frozen`: at running speeds, the frozen-time approximation (one
 //! instant's Jacobian with the belt's transport) instead of the Floquet
-//! analysis.
+//! analysis. `--idle-loads`: at each speed every load damping is scaled by
+//! the set's crank speed over the analysed one, so the loads keep the
+//! torques they take at the set's speed (the set's loads grow with the
+//! speed squared). At each running speed the console names the growing
+//! modes' cause where the mesh explains it (`belt_drive::modes::mechanism`).
 
 use belt_drive::modes::{
-    adapter, analyse_drive, floquet, params, Modes, Options, ARM_AMPLITUDE, FLOQUET_SUBSTEPS,
+    adapter, analyse_drive, floquet, mechanism, params, Modes, Options, ARM_AMPLITUDE,
+    FLOQUET_SUBSTEPS,
 };
 use std::io::Write;
 use std::path::PathBuf;
@@ -37,10 +42,12 @@ struct Args {
     out: PathBuf,
     frozen: bool,
     arm_amplitude: f64,
+    idle_loads: bool,
 }
 
 const USAGE: &str = "usage: modes [--ssv FILE] [--set NAME=VALUE ...] [--speeds FROM:TO:N] \
-                     [--at TIME] [--fmax HZ] [--out FILE] [--frozen] [--arm-amplitude DEG]";
+                     [--at TIME] [--fmax HZ] [--out FILE] [--frozen] [--arm-amplitude DEG] \
+                     [--idle-loads]";
 
 fn parse() -> Result<Args, String> {
     let mut a = Args {
@@ -52,6 +59,7 @@ fn parse() -> Result<Args, String> {
         out: PathBuf::from("dist/modes.csv"),
         frozen: false,
         arm_amplitude: ARM_AMPLITUDE,
+        idle_loads: false,
     };
     let mut it = std::env::args().skip(1);
     while let Some(k) = it.next() {
@@ -76,6 +84,7 @@ fn parse() -> Result<Args, String> {
                 }
                 a.arm_amplitude = deg.to_radians();
             }
+            "--idle-loads" => a.idle_loads = true,
             "--speeds" => {
                 let s = val()?;
                 let p: Vec<&str> = s.split(':').collect();
@@ -133,9 +142,17 @@ fn run() -> Result<(), String> {
                 );
             }
             // keep the set's direction of rotation
+            let own = crank.omega_ramp.abs();
             crank.omega_ramp = w.copysign(crank.omega_ramp);
             at = a.at.unwrap_or(crank.ramp_time + 0.3);
             o.transport = w > 0.0;
+            if a.idle_loads && own > 0.0 && w > 0.0 {
+                // each speed-proportional load keeps the torque it takes at
+                // the set's own crank speed
+                for q in &mut p.pulleys[1..] {
+                    q.load_damping *= own / w;
+                }
+            }
         }
         let t0 = Instant::now();
         let mut drive = adapter::build(&p)?;
@@ -190,6 +207,18 @@ fn run() -> Result<(), String> {
                      near it, marked periodic=false in the CSV and drawn apart in the Campbell diagram",
                     orbit.defect()
                 );
+            }
+        }
+        if let Some(orbit) = &modes.orbit {
+            // why the running state grows, where the mesh explains it
+            for (mode, cause) in mechanism::growing(&modes) {
+                eprintln!(
+                    "speed {w:.1} rad/s: {}",
+                    mechanism::explain(mode, cause, orbit.period)
+                );
+            }
+            for line in mechanism::mesh_resonances(&drive) {
+                eprintln!("speed {w:.1} rad/s: mesh check: {line}");
             }
         }
         eprintln!(

@@ -12,7 +12,7 @@ mod heavy;
 mod span_growth;
 
 use belt_drive::model::params::Method;
-use belt_drive::modes::{adapter, analyse, floquet, Mode, Modes, Options, Orbit, Part};
+use belt_drive::modes::{adapter, analyse, floquet, mechanism, Mode, Modes, Options, Orbit, Part};
 use belt_drive::solver::knobs::TUNING;
 use belt_drive::{Drive, DriveParams};
 use heavy::heavy_running;
@@ -1874,6 +1874,17 @@ fn span_growth_is_the_floquet_damping(m: &Modes, drive: &Drive) {
         unstable.damping_ratio < 0.0,
         "no unstable span mode: {}",
         unstable.describe()
+    );
+    // the cause `cargo xtask modes` names: half the body-passing frequency
+    // (the orbit's period P = l / v), the mesh's parametric resonance
+    let period = m.orbit.as_ref().expect("a running state").period;
+    let cause = mechanism::cause(unstable, period);
+    eprintln!("{}", mechanism::explain(unstable, cause, period));
+    assert_eq!(
+        cause,
+        mechanism::Cause::MeshParametric(1),
+        "f_bp = {:.2} Hz",
+        1.0 / period
     );
     let g = kicked_growth(drive, unstable, k, KICK, GROWTH_RUN, 1e-4);
     let err = g.zeta / unstable.damping_ratio - 1.0;

@@ -9,7 +9,7 @@
 //! * `outputs`: [`Outputs`] and how they are recorded.
 
 mod integrator;
-mod mesh_check;
+pub(crate) mod mesh_check;
 mod mounting;
 mod outputs;
 

@@ -25,6 +25,7 @@
 pub mod adapter;
 pub mod degenerate;
 pub mod floquet;
+pub mod mechanism;
 pub mod params;
 
 pub use floquet::{floquet, Orbit, FLOQUET_SUBSTEPS, SDIRK_GAMMA};

@@ -1,0 +1,169 @@
+//! Why a running state is unstable, where the discretisation explains it
+//! (docs/modes.md, "When the running state is not periodic").
+//!
+//! The bodies land on and leave every pulley once per body-passing period P
+//! (docs/model.md, "Body passing"): the chain's polygon modulates each span's
+//! tension at f_bp = 1/P and its harmonics, which a continuous belt does not
+//! do. A span mode that grows at half that frequency (Floquet multiplier
+//! negative real: the principal parametric resonance of Mathieu's equation),
+//! or at 3/2 of it, is the mesh's parametric resonance; one at f_bp itself
+//! is the polygon forcing the mode directly. Either is a property of the
+//! mesh (`belt.nBodies`), not of the drive. A growing mode at none of these
+//! frequencies is not explained by the body passing.
+
+use super::{Mode, Modes};
+use crate::drive::mesh_check;
+use crate::drive::Drive;
+
+/// How close a mode's frequency must lie to a multiple of f_bp / 2 to be
+/// read as driven by it, relative. The parametric resonance locks the
+/// mode's frequency to f_bp / 2 (the accessory drive's span 3 mode at idle:
+/// within 0.01 %); the analysis' own frequency resolution is about 0.5 %
+/// (docs/modes.md, "Convergence in the substeps").
+pub const LOCK_TOLERANCE: f64 = 0.01;
+
+/// Damping ratios smaller in magnitude than this are not resolved by the
+/// analysis (docs/modes.md, "Convergence in the substeps": read them as
+/// lightly damped, sign unknown); only modes growing faster are explained.
+pub const ZETA_RESOLUTION: f64 = 3e-3;
+
+/// Highest multiple m of f_bp / 2 checked (m = 1, 3: parametric; m = 2:
+/// direct).
+const MULTIPLES: u32 = 3;
+
+/// What makes a mode of the running state grow.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Cause {
+    /// At m f_bp / 2 with m odd: the mesh's parametric resonance.
+    MeshParametric(u32),
+    /// At f_bp: the polygon forcing the mode directly.
+    MeshDirect,
+    /// At no multiple of f_bp / 2: not the body passing.
+    NotTheMesh,
+}
+
+/// The cause of `mode`'s growth about a running state of body-passing
+/// period `period` [s] (`Orbit::period`).
+pub fn cause(mode: &Mode, period: f64) -> Cause {
+    let half = 0.5 / period;
+    for m in 1..=MULTIPLES {
+        let at = m as f64 * half;
+        if (mode.frequency_hz / at - 1.0).abs() <= LOCK_TOLERANCE {
+            return if m % 2 == 1 {
+                Cause::MeshParametric(m)
+            } else {
+                Cause::MeshDirect
+            };
+        }
+    }
+    Cause::NotTheMesh
+}
+
+/// The growing modes (damping ratio below -[`ZETA_RESOLUTION`]) of a
+/// running state's analysis with their causes, most unstable first; empty
+/// about a state at rest.
+pub fn growing(modes: &Modes) -> Vec<(&Mode, Cause)> {
+    let Some(orbit) = &modes.orbit else {
+        return Vec::new();
+    };
+    let mut out: Vec<(&Mode, Cause)> = modes
+        .modes
+        .iter()
+        .filter(|m| m.damping_ratio < -ZETA_RESOLUTION)
+        .map(|m| (m, cause(m, orbit.period)))
+        .collect();
+    out.sort_by(|a, b| a.0.damping_ratio.total_cmp(&b.0.damping_ratio));
+    out
+}
+
+/// One line for the console: the mode, its growth and its cause.
+pub fn explain(mode: &Mode, cause: Cause, period: f64) -> String {
+    let f_bp = 1.0 / period;
+    let what = format!(
+        "{} at {:.2} Hz grows (damping ratio {:+.4})",
+        mode.describe(),
+        mode.frequency_hz,
+        mode.damping_ratio
+    );
+    match cause {
+        Cause::MeshParametric(m) => format!(
+            "{what}: {m}/2 of the body-passing frequency ({f_bp:.1} Hz), a parametric resonance \
+             driven by the discrete belt's bodies landing and leaving, not by the drive: more \
+             bodies (belt.nBodies) move it"
+        ),
+        Cause::MeshDirect => format!(
+            "{what}: at the body-passing frequency ({f_bp:.1} Hz), forced by the discrete belt's \
+             polygon, not by the drive: more bodies (belt.nBodies) move it"
+        ),
+        Cause::NotTheMesh => format!(
+            "{what}: not at half, once or 3/2 the body-passing frequency ({f_bp:.1} Hz): not the \
+             mesh's parametric resonance nor the polygon's forcing; this analysis does not name \
+             its mechanism"
+        ),
+    }
+}
+
+/// What the mesh check (the warnings naming `belt.nBodies`,
+/// docs/model.md) reads for `drive` at its built-in crank speed: one line
+/// per span whose half body-passing frequency lies near one of its first
+/// modes at the preload (or whose body-passing frequency near its first),
+/// where the mesh may drive the span.
+pub fn mesh_resonances(drive: &Drive) -> Vec<String> {
+    mesh_check::spans(drive.params(), drive.layout())
+        .iter()
+        .enumerate()
+        .filter_map(|(k, s)| {
+            let (n, d) = s.resonance()?;
+            let what = if n == 0 {
+                format!("the body-passing frequency {:.1} Hz", s.f_bp)
+            } else {
+                format!("half the body-passing frequency, {:.1} Hz,", s.f_bp / 2.0)
+            };
+            let mode = if n == 0 { 1 } else { n };
+            Some(format!(
+                "span {}: {what} lies {:+.1} % from its mode {mode} at the preload ({:.1} Hz; \
+                 {:.1} bodies on the span)",
+                k + 1,
+                100.0 * d,
+                mode as f64 * s.f1,
+                s.bodies
+            ))
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::modes::Part;
+
+    fn mode(f: f64, zeta: f64) -> Mode {
+        Mode {
+            frequency_hz: f,
+            damping_ratio: zeta,
+            damped_hz: f,
+            part: Part::SpanTransverse(3),
+            share: 1.0,
+            shares: vec![(Part::SpanTransverse(3), 1.0)],
+            shape: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn causes_by_multiple_of_half_the_body_passing_frequency() {
+        // the accessory drive at idle: P = 1 / 737.15 Hz
+        let p = 1.0 / 737.15;
+        assert_eq!(cause(&mode(368.59, -0.004), p), Cause::MeshParametric(1));
+        assert_eq!(
+            cause(&mode(737.15 * 1.5, -0.004), p),
+            Cause::MeshParametric(3)
+        );
+        assert_eq!(cause(&mode(737.15 * 1.009, -0.004), p), Cause::MeshDirect);
+        // 1.1 % off half the body-passing frequency: outside the lock
+        assert_eq!(cause(&mode(368.59 * 1.011, -0.004), p), Cause::NotTheMesh);
+        assert_eq!(cause(&mode(146.78, -0.007), p), Cause::NotTheMesh);
+        assert!(
+            explain(&mode(368.59, -0.004), Cause::MeshParametric(1), p).contains("belt.nBodies")
+        );
+    }
+}
