@@ -131,7 +131,11 @@ fn main() {
         s.push_str(",\"T\":");
         push_list(&mut s, tensions.0.iter().copied(), 1);
         s.push_str(",\"angle\":");
-        push_list(&mut s, (0..np).map(|j| y[sys.pulley_offset(j)]), 5);
+        push_list(
+            &mut s,
+            (0..np).map(|j| y[sys.state_layout().pulley(j).angle]),
+            5,
+        );
         s.push_str(",\"omega\":");
         push_list(&mut s, o.pulleys[..np].iter().map(|q| q.omega), 5);
         s.push_str(",\"span\":");

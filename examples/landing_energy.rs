@@ -45,10 +45,10 @@ fn contacts(sys: &BeltSystem, ws: &mut Workspace, t: f64, y: &[f64]) -> Vec<(usi
 /// which the potential energy also holds: the dissipated energy is that
 /// accumulator less the creep springs' energy, as `energy.dissipated` is.
 fn balance(sys: &BeltSystem, y: &[f64]) -> f64 {
-    let e = sys.energy_offset();
+    let e = sys.state_layout().energy();
     let (kinetic, potential) = sys.energies(y);
-    let dissipated = y[e + 1] - sys.creep_spring_energy(y);
-    y[e] - dissipated - kinetic - potential
+    let dissipated = y[e.dissipated] - sys.creep_spring_energy(y);
+    y[e.work_in] - dissipated - kinetic - potential
 }
 
 fn main() {

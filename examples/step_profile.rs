@@ -173,25 +173,21 @@ fn classify(sys: &BeltSystem, comps: &[f64]) -> (Group, usize) {
         };
         return (g, body);
     }
-    let e = sys.energy_offset();
-    let g = if i < e {
+    let s = sys.state_layout();
+    let pulleys = sys.pulleys();
+    let g = if i < s.energy().work_in {
         Group::Pulley
-    } else if i < e + 2 {
-        Group::Other
+    } else if (0..pulleys.len()).any(|j| {
+        let d = s.decoupler(j);
+        pulleys[j].decoupler.is_some() && (i == d.twist || i == d.rotor_speed)
+    }) {
+        Group::Decoupler
+    } else if (0..pulleys.len()).any(|j| pulleys[j].arm.is_some() && i == s.arm(j).angle) {
+        Group::ArmAngle
+    } else if (0..pulleys.len()).any(|j| pulleys[j].arm.is_some() && i == s.arm(j).rate) {
+        Group::ArmRate
     } else {
-        // decoupler states first, then the arms (BeltSystem::impulse_offset)
-        let nd = 2 * sys.n_decouplers();
-        if i < e + 2 + nd {
-            Group::Decoupler
-        } else if i < sys.impulse_offset(0) {
-            if (i - e - 2 - nd).is_multiple_of(2) {
-                Group::ArmAngle
-            } else {
-                Group::ArmRate
-            }
-        } else {
-            Group::Other
-        }
+        Group::Other
     };
     (g, usize::MAX)
 }
@@ -282,14 +278,14 @@ impl Terms {
         if rk.advance(sys, ws, &mut t, &mut y, tr.t + tr.h).is_err() {
             return;
         }
-        let o = sys.energy_offset();
+        let o = sys.state_layout().energy();
         let parts = |y: &[f64]| {
             let e = sys.stored_energy(y);
             let b = sys.balance_of(y, e);
             [
                 b.balance,
-                y[o],
-                y[o + 1],
+                y[o.work_in],
+                y[o.dissipated],
                 e.kinetic,
                 e.potential - e.creep,
                 e.creep,

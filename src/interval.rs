@@ -25,7 +25,8 @@
 //! element found at the last endpoint, so it costs a few elements per step.
 
 use crate::model::params::MAX_PULLEYS;
-use crate::model::system::{BeltSystem, BODY_DOF};
+use crate::model::state;
+use crate::model::system::BeltSystem;
 use crate::model::trig;
 
 /// Length of the data [`IntervalAccumulator::save`] writes.
@@ -209,17 +210,17 @@ impl IntervalAccumulator {
         let axial = sys.axial;
         let (mut prev_p, mut prev_v) = body_end(sys, y, n - 1, 1.0);
         for i in 0..n {
-            let (o, sn, cs) = body_trig(y, i);
+            let (b, sn, cs) = body_trig(y, i);
             let (hx, hy) = (sys.half_length * cs, sys.half_length * sn);
-            let w = y[o + 5];
-            let start = [y[o] - hx, y[o + 1] - hy];
-            let start_v = [y[o + 3] + w * hy, y[o + 4] - w * hx];
+            let ([x, yy], [vx, vy], w) = (b.position(), b.velocity(), b.spin());
+            let start = [x - hx, yy - hy];
+            let start_v = [vx + w * hy, vy - w * hx];
             let d = [start[0] - prev_p[0], start[1] - prev_p[1]];
             let dd = [start_v[0] - prev_v[0], start_v[1] - prev_v[1]];
             let (d2, rate) = axial.rate(d, dd);
             s.belt_min = s.belt_min.min(axial.tension(d2, rate));
-            prev_p = [y[o] + hx, y[o + 1] + hy];
-            prev_v = [y[o + 3] - w * hy, y[o + 4] + w * hx];
+            prev_p = [x + hx, yy + hy];
+            prev_v = [vx - w * hy, vy + w * hx];
         }
         for k in 0..sys.np {
             if self.has_span[k] {
@@ -228,7 +229,7 @@ impl IntervalAccumulator {
                 s.span[k] = sde_tension(sys, y, i).0;
             }
             if let Some(arm) = &sys.pulleys[k].arm {
-                s.arm[k] = arm.spring_torque(y[sys.pulleys[k].arm_offset]);
+                s.arm[k] = arm.spring_torque(y[sys.state_layout().arm(k).angle]);
             }
         }
         s
@@ -239,21 +240,18 @@ impl IntervalAccumulator {
 /// `i - 1` (-1), and that point's velocity.
 #[inline]
 fn body_end(sys: &BeltSystem, y: &[f64], i: usize, sign: f64) -> ([f64; 2], [f64; 2]) {
-    let (o, sn, cs) = body_trig(y, i);
+    let (b, sn, cs) = body_trig(y, i);
     let (hx, hy) = (sign * sys.half_length * cs, sign * sys.half_length * sn);
-    let w = y[o + 5];
-    (
-        [y[o] + hx, y[o + 1] + hy],
-        [y[o + 3] - w * hy, y[o + 4] + w * hx],
-    )
+    let ([x, yy], [vx, vy], w) = (b.position(), b.velocity(), b.spin());
+    ([x + hx, yy + hy], [vx - w * hy, vy + w * hx])
 }
 
-/// Body `i`'s state offset and the sine and cosine of its angle.
+/// Body `i` of state `y` and the sine and cosine of its angle.
 #[inline]
-fn body_trig(y: &[f64], i: usize) -> (usize, f64, f64) {
-    let o = BODY_DOF * i;
-    let (sn, cs) = trig::sin_cos(y[o + 2]);
-    (o, sn, cs)
+fn body_trig(y: &[f64], i: usize) -> (state::Body<'_>, f64, f64) {
+    let b = state::body(y, i);
+    let (sn, cs) = trig::sin_cos(b.angle());
+    (b, sn, cs)
 }
 
 /// Tension of SDE `i` (joining body i - 1's end to body i's start, as the

@@ -9,7 +9,7 @@ mod common;
 mod ssv;
 
 use belt_drive::model::params::{DecouplerParams, Method, PulleyParams};
-use belt_drive::model::system::BODY_DOF;
+use belt_drive::model::state::BodyIndex;
 use belt_drive::{Drive, DriveParams, FrictionLaw};
 use common::*;
 use std::f64::consts::PI;
@@ -101,22 +101,22 @@ fn tap_span(d: &mut Drive, v0: f64) {
     let mut y = d.state().to_vec();
     let n = d.params().belt.n_bodies;
     for i in 0..n {
-        let o = BODY_DOF * i;
-        let (rx, ry) = (y[o] - a[0], y[o + 1] - a[1]);
+        let o = BodyIndex::of(i);
+        let (rx, ry) = (y[o.x] - a[0], y[o.y] - a[1]);
         let s = rx * tx + ry * ty;
         let off = rx * nx + ry * ny;
         if s > 0.0 && s < len && off.abs() < 0.01 {
             let v = v0 * (PI * s / len).sin();
-            y[o + 3] += v * nx;
-            y[o + 4] += v * ny;
+            y[o.vx] += v * nx;
+            y[o.vy] += v * ny;
             // the body turns with the slope's rate d(v_n)/ds; the body's
             // orientation grows counterclockwise, the span runs along t, so
             // the rate of its angle is +d(v_n)/ds when t is the travel
             // direction and the sign flips otherwise: use the body's own
             // axis (cos phi, sin phi) to decide
-            let (sp, cp) = y[o + 2].sin_cos();
+            let (sp, cp) = y[o.angle].sin_cos();
             let along = cp * tx + sp * ty;
-            y[o + 5] += along.signum() * v0 * PI / len * (PI * s / len).cos();
+            y[o.spin] += along.signum() * v0 * PI / len * (PI * s / len).cos();
         }
     }
     let t = d.time();

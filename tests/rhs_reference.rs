@@ -23,7 +23,8 @@ use belt_drive::model::elements::Law;
 use belt_drive::model::elements::ARM_FRICTION_RATE as FRICTION_RATE;
 use belt_drive::model::params::{PulleyParams, TensionerArm, MAX_PULLEYS};
 use belt_drive::model::simd::Isa;
-use belt_drive::model::system::{BeltSystem, Inputs, Recorder, Relaxation, Workspace, BODY_DOF};
+use belt_drive::model::state::{body, BodyIndex};
+use belt_drive::model::system::{BeltSystem, Inputs, Recorder, Relaxation, Workspace};
 use belt_drive::{Drive, DriveParams, FrictionLaw};
 use std::collections::BTreeMap;
 use std::f64::consts::TAU;
@@ -76,7 +77,8 @@ fn reference_rhs<R: Recorder>(
         *c = match &pc.arm {
             None => [pc.cx, pc.cy, 0.0, 0.0],
             Some(arm) => {
-                let (a, w) = (y[pc.arm_offset], y[pc.arm_offset + 1]);
+                let o = s.state_layout().arm(j);
+                let (a, w) = (y[o.angle], y[o.rate]);
                 let (sn, cs) = (arm.phi0 + a).sin_cos();
                 let r = arm.length;
                 [
@@ -92,31 +94,31 @@ fn reference_rhs<R: Recorder>(
     let mut hub_mag = [0.0; MAX_PULLEYS];
 
     let ends = |i: usize| {
-        let b = &y[BODY_DOF * i..BODY_DOF * i + BODY_DOF];
-        let (sn, c) = b[2].sin_cos();
+        let b = body(y, i);
+        let (sn, c) = b.angle().sin_cos();
         let (hx, hy) = (hl * c, hl * sn);
-        let (vx, vy, w) = (b[3], b[4], b[5]);
+        let ([x, yy], [vx, vy], w) = (b.position(), b.velocity(), b.spin());
         (
-            [b[0] - hx, b[1] - hy],
+            [x - hx, yy - hy],
             [vx + w * hy, vy - w * hx],
-            [b[0] + hx, b[1] + hy],
+            [x + hx, yy + hy],
             [vx - w * hy, vy + w * hx],
             [hx, hy],
         )
     };
 
     for i in 0..n {
-        let o = BODY_DOF * i;
-        let (x, yy, z) = (y[o], y[o + 1], y[o + 6]);
-        let (vx, vy) = (y[o + 3], y[o + 4]);
-        dy[o] = vx;
-        dy[o + 1] = vy;
-        dy[o + 2] = y[o + 5];
-        mag[o] = vx.abs();
-        mag[o + 1] = vy.abs();
-        mag[o + 2] = y[o + 5].abs();
+        let o = BodyIndex::of(i);
+        let (x, yy, z) = (y[o.x], y[o.y], y[o.creep]);
+        let (vx, vy) = (y[o.vx], y[o.vy]);
+        dy[o.x] = vx;
+        dy[o.y] = vy;
+        dy[o.angle] = y[o.spin];
+        mag[o.x] = vx.abs();
+        mag[o.y] = vy.abs();
+        mag[o.angle] = y[o.spin].abs();
         let (mut fx, mut fy) = (0.0, -weight);
-        mag[o + 4] = weight;
+        mag[o.vy] = weight;
         let mut dz = 0.0;
         let mut moment = 0.0;
         for j in 0..np {
@@ -141,8 +143,8 @@ fn reference_rhs<R: Recorder>(
                     ),
                     k => panic!("reference has no {k}-point rule"),
                 };
-                let (sn, cs) = y[o + 2].sin_cos();
-                let w_body = y[o + 5];
+                let (sn, cs) = y[o.angle].sin_cos();
+                let w_body = y[o.spin];
                 let (mut e_sum, mut ev_sum, mut v_sum, mut inside) = (0.0, 0.0, 0.0, 0);
                 let (mut n_sum, mut f_sum, mut p_top) = (0.0, 0.0, f64::MIN);
                 let mut cf_sum = [0.0; 2];
@@ -181,14 +183,14 @@ fn reference_rhs<R: Recorder>(
                     hub[j][0] -= cfx;
                     hub[j][1] -= cfy;
                     hub_mag[j] += normal.abs() + f.abs();
-                    mag[o + 3] += normal.abs() + f.abs();
-                    mag[o + 4] += normal.abs() + f.abs();
-                    mag[o + 5] += hl * (normal.abs() + f.abs());
+                    mag[o.vx] += normal.abs() + f.abs();
+                    mag[o.vy] += normal.abs() + f.abs();
+                    mag[o.spin] += hl * (normal.abs() + f.abs());
                     belt_torque[j] -= lever_g * f;
                     belt_torque_mag[j] += (lever_g * f).abs();
                     // v_T is the difference of the surface speed and the
                     // point's tangential speed (~1 m/s each): their sizes
-                    mag[o + 6] += (omega_p[j] * lever_g).abs() + (gvx * tx + gvy * ty).abs();
+                    mag[o.creep] += (omega_p[j] * lever_g).abs() + (gvx * tx + gvy * ty).abs();
                     p_diss += (normal - elastic) * p_dot + f * v_t;
                     p_diss_mag += ((normal - elastic) * p_dot).abs() + (f * v_t).abs();
                     e_sum += elastic;
@@ -237,12 +239,12 @@ fn reference_rhs<R: Recorder>(
             hub[j][0] -= cfx;
             hub[j][1] -= cfy;
             hub_mag[j] += normal.abs() + f.abs();
-            mag[o + 3] += normal.abs() + f.abs();
-            mag[o + 4] += normal.abs() + f.abs();
+            mag[o.vx] += normal.abs() + f.abs();
+            mag[o.vy] += normal.abs() + f.abs();
             belt_torque[j] -= lever[j].0 * f;
             belt_torque_mag[j] += (lever[j].0 * f).abs();
             dz += s.friction().creep_rate(v_t, z);
-            mag[o + 6] += v_t.abs();
+            mag[o.creep] += v_t.abs();
             let pd = (normal - elastic) * p_dot + f * v_t;
             p_diss += pd;
             p_diss_mag += ((normal - elastic) * p_dot).abs() + (f * v_t).abs();
@@ -251,16 +253,16 @@ fn reference_rhs<R: Recorder>(
                 rec.hub_force(j, -cfx, -cfy);
             }
         }
-        dy[o + 3] = fx;
-        dy[o + 4] = fy;
-        dy[o + 5] = moment;
-        dy[o + 6] = dz;
+        dy[o.vx] = fx;
+        dy[o.vy] = fy;
+        dy[o.spin] = moment;
+        dy[o.creep] = dz;
     }
 
     let mut prev = ends(n - 1);
     for k in 0..n {
         let cur = ends(k);
-        let (ip, ic) = (BODY_DOF * ((k + n - 1) % n), BODY_DOF * k);
+        let (ip, ic) = (BodyIndex::of((k + n - 1) % n), BodyIndex::of(k));
         let d = [cur.0[0] - prev.2[0], cur.0[1] - prev.2[1]];
         let dd = [cur.1[0] - prev.3[0], cur.1[1] - prev.3[1]];
         let d2 = d[0] * d[0] + d[1] * d[1];
@@ -271,25 +273,29 @@ fn reference_rhs<R: Recorder>(
         let fy = ks * d[1] + bs * rate * d[1] + b_across * across[1];
         let t_cur = cur.4[0] * fy - cur.4[1] * fx;
         let t_prev = prev.4[0] * fy - prev.4[1] * fx;
-        let dphi = ref_wrap_angle(y[ic + 2] - y[ip + 2]);
-        let dw = y[ic + 5] - y[ip + 5];
+        let dphi = ref_wrap_angle(y[ic.angle] - y[ip.angle]);
+        let dw = y[ic.spin] - y[ip.spin];
         let m = kt * dphi + bt * dw;
-        dy[ic + 3] -= fx;
-        dy[ic + 4] -= fy;
-        dy[ic + 5] += t_cur - m;
-        dy[ip + 3] += fx;
-        dy[ip + 4] += fy;
-        dy[ip + 5] += t_prev + m;
+        dy[ic.vx] -= fx;
+        dy[ic.vy] -= fy;
+        dy[ic.spin] += t_cur - m;
+        dy[ip.vx] += fx;
+        dy[ip.vy] += fy;
+        dy[ip.spin] += t_prev + m;
         // scale: |F| of the SDE (its elastic and damping parts), lever hl,
         // and the rounding of the gap's inputs (positions, velocities)
         // through the SDE law, expressed as an equivalent magnitude.
-        let (bp, bc) = (&y[ip..ip + BODY_DOF], &y[ic..ic + BODY_DOF]);
-        let pos = bp[0].abs() + bp[1].abs() + bc[0].abs() + bc[1].abs() + 4.0 * hl;
-        let vel = bp[3].abs()
-            + bp[4].abs()
-            + bc[3].abs()
-            + bc[4].abs()
-            + 2.0 * hl * (bp[5].abs() + bc[5].abs());
+        let (bp, bc) = (body(y, (k + n - 1) % n), body(y, k));
+        let pos = bp.position()[0].abs()
+            + bp.position()[1].abs()
+            + bc.position()[0].abs()
+            + bc.position()[1].abs()
+            + 4.0 * hl;
+        let vel = bp.velocity()[0].abs()
+            + bp.velocity()[1].abs()
+            + bc.velocity()[0].abs()
+            + bc.velocity()[1].abs()
+            + 2.0 * hl * (bp.spin().abs() + bc.spin().abs());
         let gap_noise = GAP_ULPS
             * f64::EPSILON
             * ((ks + 2.0 * ((bs + b_across) * rate).abs()) * pos + (bs + b_across) * vel);
@@ -301,9 +307,9 @@ fn reference_rhs<R: Recorder>(
         sde_mag[k] = f_mag;
         let m_mag = (kt * dphi).abs() + (bt * dw).abs();
         for o in [ic, ip] {
-            mag[o + 3] += f_mag;
-            mag[o + 4] += f_mag;
-            mag[o + 5] += 2.0 * hl * f_mag + m_mag;
+            mag[o.vx] += f_mag;
+            mag[o.vy] += f_mag;
+            mag[o.spin] += 2.0 * hl * f_mag + m_mag;
         }
         // along the gap b (rate |d|)^2, across it b_t (|d'|^2 - (rate |d|)^2)
         let dd2 = dd[0] * dd[0] + dd[1] * dd[1];
@@ -331,32 +337,32 @@ fn reference_rhs<R: Recorder>(
     // axis, n = (-sin phi, cos phi), damped at the rate gamma
     let gamma = s.transverse().rate;
     for i in 0..n {
-        let o = BODY_DOF * i;
-        let (sn, cs) = y[o + 2].sin_cos();
-        let v_n = -sn * y[o + 3] + cs * y[o + 4];
+        let o = BodyIndex::of(i);
+        let (sn, cs) = y[o.angle].sin_cos();
+        let v_n = -sn * y[o.vx] + cs * y[o.vy];
         let (tx, ty) = (gamma * v_n * sn, -gamma * v_n * cs);
         p_diss += s.mass() * gamma * v_n * v_n;
         p_diss_mag += s.mass() * gamma * v_n * v_n;
-        dy[o + 3] = dy[o + 3] * inv_mass - c * y[o + 3] + tx;
-        dy[o + 4] = dy[o + 4] * inv_mass - c * y[o + 4] + ty;
-        mag[o + 3] += tx.abs() / inv_mass;
-        mag[o + 4] += ty.abs() / inv_mass;
-        dy[o + 5] = dy[o + 5] * inv_inertia - c * y[o + 5];
-        mag[o + 3] = mag[o + 3] * inv_mass + (c * y[o + 3]).abs();
-        mag[o + 4] = mag[o + 4] * inv_mass + (c * y[o + 4]).abs();
-        mag[o + 5] = mag[o + 5] * inv_inertia + (c * y[o + 5]).abs();
+        dy[o.vx] = dy[o.vx] * inv_mass - c * y[o.vx] + tx;
+        dy[o.vy] = dy[o.vy] * inv_mass - c * y[o.vy] + ty;
+        mag[o.vx] += tx.abs() / inv_mass;
+        mag[o.vy] += ty.abs() / inv_mass;
+        dy[o.spin] = dy[o.spin] * inv_inertia - c * y[o.spin];
+        mag[o.vx] = mag[o.vx] * inv_mass + (c * y[o.vx]).abs();
+        mag[o.vy] = mag[o.vy] * inv_mass + (c * y[o.vy]).abs();
+        mag[o.spin] = mag[o.spin] * inv_inertia + (c * y[o.spin]).abs();
     }
 
     let mut p_in = 0.0;
     let mut p_in_mag = 0.0;
     for j in 0..np {
         let pc = &s.pulleys()[j];
-        let o = s.pulley_offset(j);
+        let o = s.state_layout().pulley(j);
         let w = omega_p[j];
         let applied = s.applied_torque(j, t);
         let load = pc.load_damping * w;
-        dy[o] = w;
-        mag[o] = w.abs();
+        dy[o.angle] = w;
+        mag[o.angle] = w.abs();
         let (alpha, drive) = if pc.speed_driven {
             let alpha = s.prescribed_speed(j, t).1;
             let drive = pc.inertia * alpha - belt_torque[j] - applied + load;
@@ -364,9 +370,9 @@ fn reference_rhs<R: Recorder>(
         } else {
             ((applied - load + belt_torque[j]) * pc.inv_inertia, 0.0)
         };
-        dy[o + 1] = alpha;
+        dy[o.speed] = alpha;
         let t_mag = (pc.inertia * alpha).abs() + belt_torque_mag[j] + applied.abs() + load.abs();
-        mag[o + 1] = if pc.speed_driven {
+        mag[o.speed] = if pc.speed_driven {
             alpha.abs()
         } else {
             t_mag * pc.inv_inertia
@@ -379,15 +385,15 @@ fn reference_rhs<R: Recorder>(
             rec.pulley(j, belt_torque[j], drive, alpha);
         }
         // impulse states: belt torque, drive torque, hub force
-        let q = s.impulse_offset(j);
-        dy[q] = belt_torque[j];
-        dy[q + 1] = drive;
-        dy[q + 2] = hub[j][0];
-        dy[q + 3] = hub[j][1];
-        mag[q] = belt_torque_mag[j];
-        mag[q + 1] = t_mag;
-        mag[q + 2] = hub_mag[j];
-        mag[q + 3] = hub_mag[j];
+        let q = s.state_layout().impulses(j);
+        dy[q.belt_torque] = belt_torque[j];
+        dy[q.drive_torque] = drive;
+        dy[q.hub_force[0]] = hub[j][0];
+        dy[q.hub_force[1]] = hub[j][1];
+        mag[q.belt_torque] = belt_torque_mag[j];
+        mag[q.drive_torque] = t_mag;
+        mag[q.hub_force[0]] = hub_mag[j];
+        mag[q.hub_force[1]] = hub_mag[j];
     }
     // Tensioner arms: I alpha'' = (c - pivot) x F_hub - k (alpha - alpha_free)
     // - d alpha' - (M_c + mu_h r_f |F_hub|) S(alpha' / w_c), S(u) = u (3 -
@@ -396,13 +402,13 @@ fn reference_rhs<R: Recorder>(
     for (j, c) in centre.iter().enumerate().take(np) {
         let pc = &s.pulleys()[j];
         let Some(arm) = &pc.arm else { continue };
-        let o = pc.arm_offset;
-        let (a, w) = (y[o], y[o + 1]);
-        dy[o] = w;
-        mag[o] = w.abs();
+        let o = s.state_layout().arm(j);
+        let (a, w) = (y[o.angle], y[o.rate]);
+        dy[o.angle] = w;
+        mag[o.angle] = w.abs();
         if s.relaxation().pulleys_held {
-            dy[o + 1] = 0.0;
-            mag[o + 1] = 0.0;
+            dy[o.rate] = 0.0;
+            mag[o.rate] = 0.0;
             continue;
         }
         let (lx, ly) = (c[0] - arm.pivot[0], c[1] - arm.pivot[1]);
@@ -412,8 +418,8 @@ fn reference_rhs<R: Recorder>(
         let u = (w / FRICTION_RATE).clamp(-1.0, 1.0);
         let s_u = 0.5 * u * (3.0 - u * u);
         let friction = (arm.friction + arm.hub_friction * hub[j][0].hypot(hub[j][1])) * s_u;
-        dy[o + 1] = (moment + spring - damper - friction) / arm.inertia;
-        mag[o + 1] = (arm.length * hub_mag[j]
+        dy[o.rate] = (moment + spring - damper - friction) / arm.inertia;
+        mag[o.rate] = (arm.length * hub_mag[j]
             + spring.abs()
             + damper.abs()
             + (arm.friction + arm.hub_friction * hub_mag[j]) * s_u.abs())
@@ -421,11 +427,11 @@ fn reference_rhs<R: Recorder>(
         p_diss += (damper + friction) * w;
         p_diss_mag += (damper * w).abs() + (friction * w).abs();
     }
-    let e = s.energy_offset();
-    dy[e] = p_in;
-    dy[e + 1] = p_diss;
-    mag[e] = p_in_mag;
-    mag[e + 1] = p_diss_mag;
+    let e = s.state_layout().energy();
+    dy[e.work_in] = p_in;
+    dy[e.dissipated] = p_diss;
+    mag[e.work_in] = p_in_mag;
+    mag[e.dissipated] = p_diss_mag;
     if R::ACTIVE {
         rec.power(p_in, p_diss);
     }
@@ -553,7 +559,9 @@ fn compare(sys: &BeltSystem, lever: &[(f64, f64)], t: f64, y: &[f64], label: &st
     // formed by the contact kinematics here, by `stored_energy` there (a
     // few ulps of the radius, 1e-13 of a contact's energy at p ~ 1e-4 m).
     let e_ref = sys.stored_energy(y);
-    let heights: f64 = (0..sys.n_bodies()).map(|i| y[BODY_DOF * i + 1].abs()).sum();
+    let heights: f64 = (0..sys.n_bodies())
+        .map(|i| y[BodyIndex::of(i).y].abs())
+        .sum();
     let e_scale =
         e_ref.kinetic + e_ref.belt + e_ref.potential.abs() + sys.mass() * sys.gravity() * heights;
     for build in [Isa::Baseline, Isa::Avx2, Isa::Avx512] {
@@ -649,22 +657,22 @@ fn compare(sys: &BeltSystem, lever: &[(f64, f64)], t: f64, y: &[f64], label: &st
             &format!("{label}: pulley {j} alpha"),
             o[2],
             r[2],
-            mag[sys.pulley_offset(*j) + 1],
+            mag[sys.state_layout().pulley(*j).speed],
         );
     }
     assert_eq!(log.power.len(), 1);
-    let e = sys.energy_offset();
+    let e = sys.state_layout().energy();
     close(
         &format!("{label}: power in"),
         log.power[0][0],
         log_ref.power[0][0],
-        mag[e],
+        mag[e.work_in],
     );
     close(
         &format!("{label}: power dissipated"),
         log.power[0][1],
         log_ref.power[0][1],
-        mag[e + 1],
+        mag[e.dissipated],
     );
     let cap = sys.friction().creep_cap();
     let mut ex = Exercised {
@@ -672,7 +680,7 @@ fn compare(sys: &BeltSystem, lever: &[(f64, f64)], t: f64, y: &[f64], label: &st
         ..Exercised::default()
     };
     for (&(i, _), r) in &log_ref.contact {
-        let z = y[BODY_DOF * i + 6];
+        let z = y[BodyIndex::of(i).creep];
         ex.contacts += 1;
         ex.held_at_cap += (z.abs() >= cap && r[2] * z > 0.0) as usize;
         ex.below_cap += (z.abs() < cap) as usize;
@@ -730,20 +738,20 @@ fn perturb(sys: &BeltSystem, y: &[f64], rng: &mut Rng, amp: f64) -> Vec<f64> {
     let mut y = y.to_vec();
     let cap = sys.friction().creep_cap();
     for i in 0..sys.n_bodies() {
-        let o = BODY_DOF * i;
-        y[o] += amp * 5e-4 * rng.sym();
-        y[o + 1] += amp * 5e-4 * rng.sym();
-        y[o + 2] += amp * 0.05 * rng.sym();
+        let o = BodyIndex::of(i);
+        y[o.x] += amp * 5e-4 * rng.sym();
+        y[o.y] += amp * 5e-4 * rng.sym();
+        y[o.angle] += amp * 0.05 * rng.sym();
         if rng.pick(10) == 0 {
-            y[o + 2] += TAU * (rng.pick(7) as f64 - 3.0);
+            y[o.angle] += TAU * (rng.pick(7) as f64 - 3.0);
         }
         if rng.pick(50) == 0 {
-            y[o + 2] += TAU * 1e4 * rng.sym().signum();
+            y[o.angle] += TAU * 1e4 * rng.sym().signum();
         }
-        y[o + 3] += amp * 2.0 * rng.sym();
-        y[o + 4] += amp * 2.0 * rng.sym();
-        y[o + 5] += amp * 500.0 * rng.sym();
-        y[o + 6] = match rng.pick(5) {
+        y[o.vx] += amp * 2.0 * rng.sym();
+        y[o.vy] += amp * 2.0 * rng.sym();
+        y[o.spin] += amp * 500.0 * rng.sym();
+        y[o.creep] = match rng.pick(5) {
             0 => cap,
             1 => -cap,
             2 => 1.2 * cap * rng.sym().signum(),
@@ -752,15 +760,16 @@ fn perturb(sys: &BeltSystem, y: &[f64], rng: &mut Rng, amp: f64) -> Vec<f64> {
         };
     }
     for j in 0..sys.n_pulleys() {
-        let o = sys.pulley_offset(j);
-        y[o] += rng.sym();
-        y[o + 1] += 20.0 * rng.sym();
+        let o = sys.state_layout().pulley(j);
+        y[o.angle] += rng.sym();
+        y[o.speed] += 20.0 * rng.sym();
         // a tensioner arm: turned by up to 5e-3 rad (0.4 mm at an 80 mm
         // arm), its rate in and beyond the pivot friction's ramp
         let pc = &sys.pulleys()[j];
         if pc.arm.is_some() {
-            y[pc.arm_offset] += amp * 5e-3 * rng.sym();
-            y[pc.arm_offset + 1] = match rng.pick(3) {
+            let a = sys.state_layout().arm(j);
+            y[a.angle] += amp * 5e-3 * rng.sym();
+            y[a.rate] = match rng.pick(3) {
                 0 => 5e-3 * rng.sym(),
                 _ => amp * 2.0 * rng.sym(),
             };

@@ -3,7 +3,8 @@
 
 use crate::model::elements::friction::Law;
 use crate::model::params::{DriveParams, Method};
-use crate::model::system::{BeltSystem, NoRecord, Workspace, BODY_DOF};
+use crate::model::state::BodyIndex;
+use crate::model::system::{BeltSystem, NoRecord, Workspace};
 use crate::solver::iteration_matrix::IterationMatrix;
 use crate::solver::jacobian::Jacobian;
 use crate::solver::knobs::TUNING;
@@ -91,11 +92,12 @@ impl StiffSystem for BeltSystem {
         mask.fill(1.0);
         let velocities =
             TUNING.velocity_error_weight(self.friction.follows_sliding_velocity(), rel_tol);
-        for body in mask[..BODY_DOF * self.n].chunks_exact_mut(BODY_DOF) {
-            body[2] = ANGLES;
-            body[5] = ANGLES;
-            body[3] = velocities;
-            body[4] = velocities;
+        for i in 0..self.n {
+            let b = BodyIndex::of(i);
+            mask[b.angle] = ANGLES;
+            mask[b.spin] = ANGLES;
+            mask[b.vx] = velocities;
+            mask[b.vy] = velocities;
         }
         // the impulses are outputs only
         mask[self.controlled_dim()..].fill(0.0);

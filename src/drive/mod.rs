@@ -22,7 +22,8 @@ use crate::interval::{IntervalAccumulator, INTERVAL_DATA};
 use crate::model::layout::Layout;
 use crate::model::param_id::Message;
 use crate::model::params::{DriveParams, ParamError, MAX_PULLEYS, PROBE_AUTO};
-use crate::model::system::{BeltSystem, Inputs, Workspace, BODY_DOF, IMPULSES};
+use crate::model::state;
+use crate::model::system::{BeltSystem, Inputs, Workspace, IMPULSES};
 use crate::solver::step_control::{Stats, StepFailure};
 
 /// The window the mean outputs average over: the last call of
@@ -89,10 +90,9 @@ impl Drive {
         let dim = sys.dim();
         let mut y = vec![0.0; dim];
         for (i, b) in layout.bodies.iter().enumerate() {
-            let o = BODY_DOF * i;
-            y[o] = b.x;
-            y[o + 1] = b.y;
-            y[o + 2] = b.phi;
+            let mut body = state::body_mut(&mut y, i);
+            body.set_position([b.x, b.y]);
+            body.set_angle(b.phi);
         }
         let integrator = Integrator::new(&sys, params);
         let warnings = warnings(params, &layout, &sys);
@@ -204,10 +204,10 @@ impl Drive {
         self.sys.inputs = inputs;
         for j in 0..self.sys.np {
             if self.sys.pulleys[j].speed_driven {
-                let o = self.sys.pulley_offset(j);
+                let o = self.sys.state_layout().pulley(j).speed;
                 let w = self.sys.prescribed_speed(j, self.t).0;
-                same &= w.to_bits() == self.y[o + 1].to_bits();
-                self.y[o + 1] = w;
+                same &= w.to_bits() == self.y[o].to_bits();
+                self.y[o] = w;
             }
         }
         if !same {
@@ -322,7 +322,8 @@ impl Drive {
     /// Restores what [`arm_free_angles`](Self::arm_free_angles) returned;
     /// false (nothing changed) if the count does not fit or one is not finite.
     pub fn set_arm_free_angles(&mut self, angles: &[f64]) -> bool {
-        if angles.len() != self.sys.n_arms || !angles.iter().all(|a| a.is_finite()) {
+        if angles.len() != self.sys.state_layout().n_arms() || !angles.iter().all(|a| a.is_finite())
+        {
             return false;
         }
         let arms = self.sys.pulleys[..self.sys.np]

@@ -6,7 +6,8 @@ use crate::model::elements::contact::{smoothstep, AUTO_P_MAX_PER_PENETRATION};
 use crate::model::layout::Layout;
 use crate::model::param_id::{msg, Message, Param, Part};
 use crate::model::params::{DriveParams, MAX_PULLEYS};
-use crate::model::system::{BeltSystem, Recorder, Relaxation, Workspace, BODY_DOF};
+use crate::model::state;
+use crate::model::system::{BeltSystem, Recorder, Relaxation, Workspace};
 use crate::solver::knobs::TUNING;
 use crate::solver::rkf45::Rkf45;
 
@@ -53,32 +54,34 @@ pub(super) fn relax_into_equilibrium(
         if rk.advance(&relax, ws, &mut t, y, target).is_err() {
             break;
         }
-        let v_max = (0..relax.n)
-            .map(|i| y[BODY_DOF * i + 3].abs().max(y[BODY_DOF * i + 4].abs()))
+        let v_max = state::bodies(y, relax.n)
+            .map(|b| b.velocity()[0].abs().max(b.velocity()[1].abs()))
             .fold(0.0, f64::max);
         if t >= TUNING.relax_min_periods * period && v_max < TUNING.relax_rest_speed {
             break;
         }
     }
     for i in 0..relax.n {
-        let o = BODY_DOF * i;
-        y[o + 3] = 0.0;
-        y[o + 4] = 0.0;
-        y[o + 5] = 0.0;
-        y[o + 6] = 0.0;
+        let mut b = state::body_mut(y, i);
+        b.set_velocity([0.0, 0.0]);
+        b.set_spin(0.0);
+        b.set_creep(0.0);
     }
-    let e = relax.energy_offset();
-    y[e] = 0.0;
-    y[e + 1] = 0.0;
+    let states = relax.state_layout;
+    let e = states.energy();
+    y[e.work_in] = 0.0;
+    y[e.dissipated] = 0.0;
     y[relax.controlled_dim()..].fill(0.0);
-    for p in &relax.pulleys[..relax.np] {
+    for (j, p) in relax.pulleys[..relax.np].iter().enumerate() {
         if p.decoupler.is_some() {
-            y[p.decoupler_offset] = 0.0;
-            y[p.decoupler_offset + 1] = 0.0;
+            let d = states.decoupler(j);
+            y[d.twist] = 0.0;
+            y[d.rotor_speed] = 0.0;
         }
         if p.arm.is_some() {
-            y[p.arm_offset] = 0.0;
-            y[p.arm_offset + 1] = 0.0;
+            let a = states.arm(j);
+            y[a.angle] = 0.0;
+            y[a.rate] = 0.0;
         }
     }
 }
@@ -100,15 +103,16 @@ impl Recorder for HubRecorder {
 /// belt's hub force about the pivot, `-k (0 - alpha_free) + M_hub = 0`
 /// (`elements::tensioner::Arm::free_angle_for`).
 pub(super) fn mount_arms(sys: &mut BeltSystem, ws: &mut Workspace, t: f64, y: &[f64]) {
-    if sys.n_arms == 0 {
+    if sys.state_layout.n_arms() == 0 {
         return;
     }
     let mut rec = HubRecorder([[0.0; 2]; MAX_PULLEYS]);
     let mut dy = vec![0.0; y.len()];
     sys.rhs(ws, t, y, &mut dy, &mut rec);
+    let states = sys.state_layout;
     for (j, pc) in sys.pulleys[..sys.np].iter_mut().enumerate() {
         if let Some(arm) = pc.arm.as_mut() {
-            let moment = arm.moment(y[pc.arm_offset], rec.0[j]).0;
+            let moment = arm.moment(y[states.arm(j).angle], rec.0[j]).0;
             arm.free_angle = arm.free_angle_for(moment);
         }
     }

@@ -4,7 +4,8 @@
 use super::Drive;
 use crate::interval::IntervalOutputs;
 use crate::model::params::MAX_PULLEYS;
-use crate::model::system::{Recorder, BODY_DOF};
+use crate::model::state;
+use crate::model::system::Recorder;
 
 /// Per-pulley outputs.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -203,7 +204,7 @@ impl Drive {
             .copied()
             .fold(f64::NEG_INFINITY, f64::max);
         let p = self.probe;
-        out.probe.position = [self.y[BODY_DOF * p], self.y[BODY_DOF * p + 1]];
+        out.probe.position = state::body(&self.y, p).position();
         let surface = |j: usize| {
             let w = self.sys.pulley_speed(j, self.t, &self.y);
             let side = self.layout.wrap_of(j).map_or(1.0, |w| w.side);
@@ -211,18 +212,18 @@ impl Drive {
         };
         let v1 = surface(0);
         for j in 0..np {
-            let o = self.sys.pulley_offset(j);
+            let states = self.sys.state_layout();
             let po = &mut out.pulleys[j];
-            po.angle = self.y[o];
+            po.angle = self.y[states.pulley(j).angle];
             po.omega = self.sys.pulley_speed(j, self.t, &self.y);
             if self.sys.pulleys[j].decoupler.is_none() {
                 po.rotor_omega = po.omega;
             }
             if let Some(arm) = &self.sys.pulleys[j].arm {
-                let o = self.sys.pulleys[j].arm_offset;
-                po.arm_angle = self.y[o];
-                po.arm_omega = self.y[o + 1];
-                po.arm_spring_torque = arm.spring_torque(self.y[o]);
+                let o = states.arm(j);
+                po.arm_angle = self.y[o.angle];
+                po.arm_omega = self.y[o.rate];
+                po.arm_spring_torque = arm.spring_torque(self.y[o.angle]);
                 po.arm_free_angle = arm.free_angle;
             }
             po.slip = if v1 != 0.0 {
@@ -235,10 +236,10 @@ impl Drive {
             // integrators; the instantaneous values of an empty window
             let span = self.t - self.window.start;
             if span > 0.0 {
-                let q = self.sys.impulse_offset(j);
-                po.mean_belt_torque = self.y[q] / span;
-                po.mean_drive_torque = self.y[q + 1] / span;
-                po.mean_hub_force = [self.y[q + 2] / span, self.y[q + 3] / span];
+                let q = states.impulses(j);
+                po.mean_belt_torque = self.y[q.belt_torque] / span;
+                po.mean_drive_torque = self.y[q.drive_torque] / span;
+                po.mean_hub_force = q.hub_force.map(|k| self.y[k] / span);
                 po.mean_alpha = self.window.omega_change[j] / span;
             } else {
                 po.mean_belt_torque = po.belt_torque;
@@ -259,11 +260,11 @@ impl Drive {
                 out.span_mid_deflection_rate[k] = rate;
             }
         }
-        let e = self.sys.energy_offset();
-        out.energy_input = self.y[e];
+        let e = self.sys.state_layout().energy();
+        out.energy_input = self.y[e.work_in];
         // the state integrates the friction work; what the creep springs
         // still store is not dissipated (it is in the potential energy)
-        out.energy_dissipated = self.y[e + 1] - self.sys.creep_spring_energy(&self.y);
+        out.energy_dissipated = self.y[e.dissipated] - self.sys.creep_spring_energy(&self.y);
         let (kin, pot) = self.sys.energies(&self.y);
         out.kinetic_energy = kin;
         out.potential_energy = pot;
@@ -304,9 +305,9 @@ impl Drive {
         let m = span.midpoint();
         let n = self.sys.n;
         let local = |i: usize| {
-            let o = BODY_DOF * i;
-            let (rx, ry) = (self.y[o] - m[0], self.y[o + 1] - m[1]);
-            let (vx, vy) = (self.y[o + 3], self.y[o + 4]);
+            let b = state::body(&self.y, i);
+            let ([x, y], [vx, vy]) = (b.position(), b.velocity());
+            let (rx, ry) = (x - m[0], y - m[1]);
             // along, across, and their rates
             (
                 rx * tx + ry * ty,

@@ -4,6 +4,7 @@
 
 use crate::model::elements::Arm;
 use crate::model::params::MAX_PULLEYS;
+use crate::model::state::{self, StateLayout};
 use crate::model::system::BODY_DOF;
 use crate::solver::jacobian::Jacobian;
 use crate::{Drive, DriveParams};
@@ -64,21 +65,23 @@ pub struct Linearisation {
     pub spans: Vec<(usize, usize, f64)>,
     /// The pulley each body touches (the model's contact test), if any.
     pub contact: Vec<Option<usize>>,
+    /// Where each state sits in `y` (and in the Jacobian's rows).
+    pub states: StateLayout,
 }
 
 impl Linearisation {
     /// Index of body `i`'s state `k` (0..7: x, y, phi, vx, vy, omega, z).
     pub fn body(&self, i: usize, k: usize) -> usize {
-        BODY_STATES * i + k
+        state::body_index(i, state::BodyComponent::at(k))
     }
     /// Indices of pulley `j`'s angle and speed.
     pub fn pulley(&self, j: usize) -> (usize, usize) {
-        let o = BODY_STATES * self.n + 2 * j;
-        (o, o + 1)
+        let p = self.states.pulley(j);
+        (p.angle, p.speed)
     }
     /// Index of the first of the two energy accumulators (no dynamics).
     pub fn energy(&self) -> usize {
-        BODY_STATES * self.n + 2 * self.pulleys.len()
+        self.states.energy().work_in
     }
     /// Indices of the states that repeat in steady running (shifted by one
     /// body for the belt): every body's, the free pulleys' speeds, the
@@ -86,18 +89,20 @@ impl Linearisation {
     /// depends on them), the prescribed speeds, the energy accumulators and
     /// the impulses (quadratures).
     pub fn periodic_states(&self) -> Vec<usize> {
-        let mut out: Vec<usize> = (0..BODY_STATES * self.n).collect();
+        let mut out: Vec<usize> = (0..self.states.bodies_len()).collect();
         for (j, p) in self.pulleys.iter().enumerate() {
             if !p.speed_driven {
                 out.push(self.pulley(j).1);
             }
         }
-        for p in &self.pulleys {
-            if let Some((o, _)) = p.decoupler {
-                out.extend([o, o + 1]);
+        for (j, p) in self.pulleys.iter().enumerate() {
+            if p.decoupler.is_some() {
+                let d = self.states.decoupler(j);
+                out.extend([d.twist, d.rotor_speed]);
             }
-            if let Some((o, _)) = p.arm {
-                out.extend([o, o + 1]);
+            if p.arm.is_some() {
+                let a = self.states.arm(j);
+                out.extend([a.angle, a.rate]);
             }
         }
         out
@@ -189,9 +194,9 @@ pub fn linearise_with(drive: &Drive, equivalent: &[Option<f64>; MAX_PULLEYS]) ->
     jac_sys.jacobian(t, &y, &mut jac);
     let mut dense = jac.to_dense(jac_sys);
     let dim = sys.dim();
-    for (pc, c) in sys.pulleys().iter().zip(equivalent) {
+    for (j, (pc, c)) in sys.pulleys().iter().zip(equivalent).enumerate() {
         if let (Some(arm), Some(c)) = (&pc.arm, c) {
-            let r = pc.arm_offset + 1;
+            let r = sys.state_layout().arm(j).rate;
             dense[r * dim + r] -= c / arm.inertia;
         }
     }
@@ -204,6 +209,7 @@ pub fn linearise_with(drive: &Drive, equivalent: &[Option<f64>; MAX_PULLEYS]) ->
         .map(|(j, p)| {
             let wrap = layout.wrap_of(j);
             let pc = &sys.pulleys()[j];
+            let states = sys.state_layout();
             PulleyInfo {
                 centre: sys.pulley_centre(j, &y).0,
                 radius: p.radius,
@@ -213,10 +219,10 @@ pub fn linearise_with(drive: &Drive, equivalent: &[Option<f64>; MAX_PULLEYS]) ->
                 pitch_angle: wrap.map_or(0.0, |w| w.pitch_angle),
                 side: wrap.map_or(1.0, |w| w.side),
                 lever: pc.lever,
-                arm: pc.arm.map(|a| (pc.arm_offset, a.inertia)),
+                arm: pc.arm.map(|a| (states.arm(j).angle, a.inertia)),
                 decoupler: pc
                     .decoupler
-                    .map(|_| (pc.decoupler_offset, pc.rotor_inertia)),
+                    .map(|_| (states.decoupler(j).twist, pc.rotor_inertia)),
             }
         })
         .collect();
@@ -230,6 +236,7 @@ pub fn linearise_with(drive: &Drive, equivalent: &[Option<f64>; MAX_PULLEYS]) ->
         time: t,
         contact,
         jacobian: dense,
+        states: *sys.state_layout(),
         dim: sys.dim(),
         n: sys.n_bodies(),
         mass: sys.mass(),
@@ -275,8 +282,8 @@ pub fn span_tensions_and_speed(drive: &mut Drive) -> (Vec<f64>, f64) {
     let o = drive.outputs();
     let y = drive.state();
     let n = drive.system().n_bodies();
-    let v = (0..n)
-        .map(|i| y[BODY_DOF * i + 3].hypot(y[BODY_DOF * i + 4]))
+    let v = state::bodies(y, n)
+        .map(|b| b.velocity()[0].hypot(b.velocity()[1]))
         .sum::<f64>()
         / n as f64;
     (o.span_tension[..np].to_vec(), v)

@@ -60,13 +60,9 @@ pub struct PulleyConst {
     pub rotor_inertia: f64,
     /// 1 / rotor inertia [1/(kg m^2)].
     pub rotor_inv_inertia: f64,
-    /// Offset of the decoupler's states [twist, rotor speed] in the state.
-    pub decoupler_offset: usize,
     /// Tensioner arm the pulley sits on, if any (`cx`, `cy` is then the
     /// mounted centre; the centre moves with the arm, `elements::tensioner`).
     pub arm: Option<Arm>,
-    /// Offset of the arm's states [angle, rate] in the state.
-    pub arm_offset: usize,
 }
 
 /// The result of eq. 24 for one pulley.
@@ -104,9 +100,7 @@ impl PulleyConst {
         decoupler: None,
         rotor_inertia: 0.0,
         rotor_inv_inertia: 0.0,
-        decoupler_offset: 0,
         arm: None,
-        arm_offset: 0,
     };
 
     /// Eq. 24 at speed `w` with the applied torque `applied`, the belt's

@@ -1,10 +1,11 @@
 //! The creep reset after every accepted step, and the contact test it
 //! uses.
 
-use super::{BeltSystem, PulleyConst, BODY_DOF};
+use super::{BeltSystem, PulleyConst};
 use crate::model::elements::contact;
 use crate::model::elements::friction::Law;
 use crate::model::params::MAX_PULLEYS;
+use crate::model::state;
 use crate::model::trig;
 
 impl BeltSystem {
@@ -19,20 +20,20 @@ impl BeltSystem {
             *c = self.pulley_centre(j, y).0;
         }
         for i in 0..self.n {
-            let o = BODY_DOF * i;
+            let creep = state::body(y, i).creep();
             // a creep of +0 stays +0 either way (reset, or clamped): only
             // the bodies that carry a creep, those on or just off a wrap,
             // need the contact test
-            if y[o + 6].to_bits() == 0 {
+            if creep.to_bits() == 0 {
                 continue;
             }
             let z = if self.touching(i, y, &centres).is_some() {
-                y[o + 6].clamp(-cap, cap)
+                creep.clamp(-cap, cap)
             } else {
                 0.0
             };
-            changed |= z.to_bits() != y[o + 6].to_bits();
-            y[o + 6] = z;
+            changed |= z.to_bits() != creep.to_bits();
+            state::body_mut(y, i).set_creep(z);
         }
         changed
     }
@@ -47,8 +48,8 @@ impl BeltSystem {
     /// regions).
     #[inline]
     pub fn touching(&self, i: usize, y: &[f64], centres: &[[f64; 2]]) -> Option<usize> {
-        let o = BODY_DOF * i;
-        let (x, yy) = (y[o], y[o + 1]);
+        let body = state::body(y, i);
+        let [x, yy] = body.position();
         let mut pulleys = self.pulleys[..self.np].iter().zip(centres);
         if self.points == 1 {
             return pulleys.position(|(pc, c)| {
@@ -65,7 +66,7 @@ impl BeltSystem {
             return None;
         }
         // the body's half vector as the right-hand side forms it
-        let (s, c) = trig::sin_cos(y[o + 2]);
+        let (s, c) = trig::sin_cos(body.angle());
         let h = [self.half_length * c, self.half_length * s];
         let quad = contact::quadrature(self.points);
         pulleys.position(|(pc, c)| {

@@ -3,11 +3,12 @@
 //! energy balance the stiff method checks.
 
 use super::workspace::BlockEnergy;
-use super::{wrap_angle, BeltSystem, BODY_DOF};
+use super::{wrap_angle, BeltSystem};
 use crate::model::elements::contact;
 use crate::model::elements::friction::Law;
 use crate::model::elements::sde::{self, BodyEnd};
 use crate::model::params::MAX_PULLEYS;
+use crate::model::state;
 use crate::model::trig;
 use crate::solver::rosenbrock::EnergyBalance;
 
@@ -40,11 +41,12 @@ impl BeltSystem {
     /// [`Self::energy_balance`] of state `y` with its stored energy `e`
     /// (from [`Self::stored_energy`] or [`Self::rhs_energy`]).
     pub fn balance_of(&self, y: &[f64], e: StoredEnergy) -> EnergyBalance {
-        let o = self.energy_offset();
+        let o = self.state_layout.energy();
+        let (work_in, dissipated) = (y[o.work_in], y[o.dissipated]);
         EnergyBalance {
-            balance: y[o] - y[o + 1] - e.kinetic - (e.potential - e.creep),
+            balance: work_in - dissipated - e.kinetic - (e.potential - e.creep),
             scale: e.belt,
-            magnitude: y[o].abs() + y[o + 1].abs() + e.kinetic + e.potential.abs(),
+            magnitude: work_in.abs() + dissipated.abs() + e.kinetic + e.potential.abs(),
         }
     }
 
@@ -61,28 +63,31 @@ impl BeltSystem {
             *c = self.pulley_centre(j, y).0;
         }
         let quad = contact::quadrature(self.points);
-        let end = |b: &[f64]| {
-            let (s, c) = trig::sin_cos(b[2]);
+        let end = |b: state::Body| {
+            let (s, c) = trig::sin_cos(b.angle());
+            let [x, y] = b.position();
             BodyEnd {
-                x: b[0],
-                y: b[1],
+                x,
+                y,
                 hx: hl * c,
                 hy: hl * s,
                 ..BodyEnd::default()
             }
         };
         let (mut kin, mut elastic, mut gravity, mut creep) = (0.0, 0.0, 0.0, 0.0);
-        let last = &y[BODY_DOF * (n - 1)..BODY_DOF * n];
-        let (mut prev, mut prev_angle) = (end(last), last[2]);
-        for (i, b) in y[..BODY_DOF * n].chunks_exact(BODY_DOF).enumerate() {
-            kin += 0.5 * self.mass * (b[3] * b[3] + b[4] * b[4]) + 0.5 * self.inertia * b[5] * b[5];
-            gravity += self.mass * self.gravity * b[1];
+        let last = state::body(y, n - 1);
+        let (mut prev, mut prev_angle) = (end(last), last.angle());
+        for (i, b) in state::bodies(y, n).enumerate() {
+            let ([vx, vy], spin) = (b.velocity(), b.spin());
+            let [bx, by] = b.position();
+            kin += 0.5 * self.mass * (vx * vx + vy * vy) + 0.5 * self.inertia * spin * spin;
+            gravity += self.mass * self.gravity * by;
             let cur = end(b);
             let (d, _) = sde::gap(prev, cur);
             elastic += self.axial.energy(d[0] * d[0] + d[1] * d[1]);
-            elastic += self.bend.energy(wrap_angle(b[2] - prev_angle));
+            elastic += self.bend.energy(wrap_angle(b.angle() - prev_angle));
             for (pc, c) in self.pulleys[..self.np].iter().zip(&centres) {
-                let (rx, ry) = (b[0] - c[0], b[1] - c[1]);
+                let (rx, ry) = (bx - c[0], by - c[1]);
                 // no contact point lies farther than l/2 from the centre
                 if contact::distance2([rx, ry]) >= pc.reach * pc.reach {
                     continue;
@@ -101,10 +106,10 @@ impl BeltSystem {
                     creep += force
                         * self
                             .friction
-                            .spring_energy(b[6], pc.mu_s * zf, pc.mu_k * zf);
+                            .spring_energy(b.creep(), pc.mu_s * zf, pc.mu_k * zf);
                 }
             }
-            (prev, prev_angle) = (cur, b[2]);
+            (prev, prev_angle) = (cur, b.angle());
         }
         self.with_pulleys(kin, elastic, creep, gravity, y)
     }
@@ -130,16 +135,18 @@ impl BeltSystem {
         let mut pot = elastic + creep + gravity;
         for j in 0..self.np {
             let pc = &self.pulleys[j];
-            let w = y[self.pulley_offset(j) + 1];
+            let w = y[self.state_layout.pulley(j).speed];
             kin += 0.5 * pc.inertia * w * w;
             if let Some(dc) = &pc.decoupler {
-                let d = pc.decoupler_offset;
-                kin += 0.5 * pc.rotor_inertia * y[d + 1] * y[d + 1];
-                pot += dc.energy(y[d]);
+                let d = self.state_layout.decoupler(j);
+                let w_r = y[d.rotor_speed];
+                kin += 0.5 * pc.rotor_inertia * w_r * w_r;
+                pot += dc.energy(y[d.twist]);
             }
             if let Some(arm) = &pc.arm {
                 // arm and pulley swinging about the pivot; the spring
-                let (a, w) = (y[pc.arm_offset], y[pc.arm_offset + 1]);
+                let o = self.state_layout.arm(j);
+                let (a, w) = (y[o.angle], y[o.rate]);
                 kin += 0.5 * arm.inertia * w * w;
                 pot += arm.energy(a);
             }

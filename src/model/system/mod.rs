@@ -1,22 +1,11 @@
 //! Equations of motion of belt bodies and pulleys (eq. 20-24) with contact
 //! (eq. 4-11) and friction (eq. 12-19): the right-hand side of the ODE.
 //!
-//! State layout (one contiguous `f64` vector, bodies first so the Jacobian
-//! of the chain is banded):
-//! * body i: `[x, y, phi, vx, vy, omega, z]` at `7 i`, z = creep displacement;
-//! * pulley j: `[theta, omega]` at `7 n + 2 j`;
-//! * `[work_in, energy_dissipated]`;
-//! * per pulley with a decoupler, in pulley order: `[twist, rotor omega]`
-//!   (`elements::decoupler`);
-//! * per pulley on a tensioner arm, in pulley order: `[arm angle, arm rate]`
-//!   (`elements::tensioner`); the pulley's centre moves with the arm;
-//! * per pulley: the impulses `[belt torque, drive torque, hub force x, hub
-//!   force y]` integrated since the start of the current communication step
-//!   (quadrature states: they feed nothing back and are left out of the
-//!   error control; their means over the step are outputs, see `drive/outputs.rs`).
+//! The state vector's layout (bodies first, then pulleys, energies,
+//! decouplers, arms, impulses) is `model::state`'s [`StateLayout`].
 //!
-//! Here the constants ([`BeltSystem`], built once from the parameters), the
-//! state offsets, [`Inputs`], [`Recorder`] and [`Relaxation`]; in the files
+//! Here the constants ([`BeltSystem`], built once from the parameters,
+//! with its [`StateLayout`]), [`Inputs`], [`Recorder`] and [`Relaxation`]; in the files
 //! beside it:
 //! * `rhs.rs`: the right-hand side, block by block in four steps (body
 //!   ends, SDEs, contact, accelerations), then pulleys and tensioner arms;
@@ -47,6 +36,7 @@ use crate::model::elements::tensioner::Arm;
 use crate::model::elements::transverse::TransverseDamper;
 use crate::model::layout::Layout;
 use crate::model::params::{DriveParams, MAX_PULLEYS};
+pub use crate::model::state::StateLayout;
 use crate::solver::knobs::TUNING;
 
 /// Values per body in the state vector.
@@ -141,10 +131,8 @@ pub struct BeltSystem {
     pub(crate) n: usize,
     /// Pulleys.
     pub(crate) np: usize,
-    /// Pulleys with a decoupler (2 states each, after the energies).
-    pub(crate) n_decouplers: usize,
-    /// Pulleys on a tensioner arm (2 states each, after the decouplers').
-    pub(crate) n_arms: usize,
+    /// Where each state sits in the state vector.
+    pub(crate) state_layout: StateLayout,
     pub(crate) pulleys: [PulleyConst; MAX_PULLEYS],
     /// Half the body length l/2 [m].
     pub(crate) half_length: f64,
@@ -185,13 +173,11 @@ impl BeltSystem {
         let inertia = mass * l * l / 12.0; // eq. 2
         let n = b.n_bodies;
         let np = params.pulleys.len();
-        let mut n_dec = 0;
-        let mut n_arms = 0;
-        let n_dec_all = params
+        let hardware: Vec<(bool, bool)> = params
             .pulleys
             .iter()
-            .filter(|p| p.decoupler.is_some())
-            .count();
+            .map(|p| (p.decoupler.is_some(), p.arm.is_some()))
+            .collect();
         let mut pulleys = [PulleyConst::NONE; MAX_PULLEYS];
         for (j, (pc, p)) in pulleys.iter_mut().zip(&params.pulleys).enumerate() {
             let radii = contact::point_radii(p.radius, l, params.contact.points);
@@ -234,12 +220,8 @@ impl BeltSystem {
                 decoupler: p.decoupler.as_ref().map(DecouplerParams::law),
                 rotor_inertia: p.decoupler.map_or(0.0, |d| d.rotor_inertia),
                 rotor_inv_inertia: p.decoupler.map_or(0.0, |d| 1.0 / d.rotor_inertia),
-                decoupler_offset: BODY_DOF * n + 2 * np + 2 + 2 * n_dec,
                 arm: p.arm.as_ref().map(|a| Arm::new(a, [p.x, p.y])),
-                arm_offset: BODY_DOF * n + 2 * np + 2 + 2 * n_dec_all + 2 * n_arms,
             };
-            n_dec += usize::from(p.decoupler.is_some());
-            n_arms += usize::from(p.arm.is_some());
         }
         let f = &params.friction;
         let mut zone_factor = vec![1.0; n];
@@ -250,8 +232,7 @@ impl BeltSystem {
         Self {
             n,
             np,
-            n_decouplers: n_dec,
-            n_arms,
+            state_layout: StateLayout::new(n, &hardware),
             pulleys,
             half_length: 0.5 * l,
             mass,
@@ -287,19 +268,19 @@ impl BeltSystem {
 
     /// Length of the state vector.
     pub fn dim(&self) -> usize {
-        self.impulse_offset(0) + IMPULSES * self.np
+        self.state_layout.dim()
     }
 
     /// States whose error the integrators control: all but the impulses at
     /// the end, which feed nothing back.
     pub fn controlled_dim(&self) -> usize {
-        self.impulse_offset(0)
+        self.state_layout.controlled_len()
     }
 
-    /// Offset of pulley j's impulses `[belt torque, drive torque, hub force
-    /// x, hub force y]` (after the decoupler and arm states).
-    pub fn impulse_offset(&self, j: usize) -> usize {
-        BODY_DOF * self.n + 2 * self.np + 2 + 2 * self.n_decouplers + 2 * self.n_arms + IMPULSES * j
+    /// Where each state sits in the state vector.
+    #[inline(always)]
+    pub fn state_layout(&self) -> &StateLayout {
+        &self.state_layout
     }
 
     /// Centre of pulley j in state `y` and its velocity: the fixed centre,
@@ -310,21 +291,12 @@ impl BeltSystem {
         match &pc.arm {
             None => ([pc.cx, pc.cy], [0.0, 0.0]),
             Some(arm) => {
-                let (a, w) = (y[pc.arm_offset], y[pc.arm_offset + 1]);
+                let o = self.state_layout.arm(j);
+                let (a, w) = (y[o.angle], y[o.rate]);
                 let (c, dc) = arm.centre(a);
                 (c, [dc[0] * w, dc[1] * w])
             }
         }
-    }
-
-    /// Offset of pulley j's `[theta, omega]` in the state.
-    pub fn pulley_offset(&self, j: usize) -> usize {
-        BODY_DOF * self.n + 2 * j
-    }
-
-    /// Offset of `[work_in, energy_dissipated]` in the state.
-    pub fn energy_offset(&self) -> usize {
-        BODY_DOF * self.n + 2 * self.np
     }
 
     /// Number of belt bodies n.
@@ -339,7 +311,7 @@ impl BeltSystem {
 
     /// Number of pulleys with a one-way decoupler.
     pub fn n_decouplers(&self) -> usize {
-        self.n_decouplers
+        self.state_layout.n_decouplers()
     }
 
     /// The pulleys' constants, in pulley order.
@@ -489,7 +461,7 @@ impl BeltSystem {
         if self.pulleys[j].speed_driven || self.relaxation.pulleys_held {
             self.prescribed_speed(j, t).0
         } else {
-            y[self.pulley_offset(j) + 1]
+            y[self.state_layout.pulley(j).speed]
         }
     }
 }

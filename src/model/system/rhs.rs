@@ -6,7 +6,7 @@ use super::contact_kernels::{contact_along_arc, contact_arc, ArcOut};
 use super::workspace::{
     body_sums, padded, sum, sum4, Block, BlockEnergy, Workspace, BLOCK, BODY_COL, PAD, SDE_COL,
 };
-use super::{BeltSystem, NoRecord, PulleyConst, Recorder, StoredEnergy, BODY_DOF, IMPULSES};
+use super::{BeltSystem, NoRecord, PulleyConst, Recorder, StoredEnergy, BODY_DOF};
 use crate::model::elements::friction::{with_law, Law};
 use crate::model::elements::sde::{self, AxialSde, TorsionalSde};
 use crate::model::params::MAX_PULLEYS;
@@ -318,9 +318,9 @@ impl BeltSystem {
             rec,
         );
         self.arm_rates(y, dy, &hub, &mut p_diss);
-        let e = self.energy_offset();
-        dy[e] = p_in;
-        dy[e + 1] = p_diss;
+        let e = self.state_layout.energy();
+        dy[e.work_in] = p_in;
+        dy[e.dissipated] = p_diss;
         if R::ACTIVE {
             rec.power(p_in, p_diss);
         }
@@ -353,10 +353,10 @@ impl BeltSystem {
         let mut p_in = 0.0;
         for j in 0..np {
             let pc = &pulleys[j];
-            let o = self.pulley_offset(j);
+            let o = self.state_layout.pulley(j);
             let w = omega_p[j];
             let applied = self.applied_torque(j, t);
-            dy[o] = w;
+            dy[o.angle] = w;
             let prescribed = if pc.speed_driven {
                 self.prescribed_speed(j, t).1
             } else {
@@ -365,18 +365,18 @@ impl BeltSystem {
             let bal = if let Some(dc) = &pc.decoupler {
                 // The load and the applied torque act on the rotor behind
                 // the decoupler; the hub carries the clutch's -s M.
-                let d = pc.decoupler_offset;
-                let (twist, w_r) = (y[d], y[d + 1]);
+                let d = self.state_layout.decoupler(j);
+                let (twist, w_r) = (y[d.twist], y[d.rotor_speed]);
                 let rel = dc.relative_rate(w, w_r);
                 let law = dc.law(twist, rel);
                 let m = dc.sense * law.torque;
                 let load = pc.load_damping * w_r;
-                dy[d] = law.twist_rate;
-                dy[d + 1] = (applied + m - load) * pc.rotor_inv_inertia;
+                dy[d.twist] = law.twist_rate;
+                dy[d.rotor_speed] = (applied + m - load) * pc.rotor_inv_inertia;
                 let mut hub = *pc;
                 hub.load_damping = 0.0;
                 let bal = hub.balance(w, -m, belt_torque[j], prescribed);
-                dy[o + 1] = bal.alpha;
+                dy[o.speed] = bal.alpha;
                 p_in += bal.drive * w + applied * w_r;
                 // the rotor load's power, then the clutch's M w less the
                 // spring's energy rate
@@ -387,7 +387,7 @@ impl BeltSystem {
                 bal
             } else {
                 let bal = pc.balance(w, applied, belt_torque[j], prescribed);
-                dy[o + 1] = bal.alpha;
+                dy[o.speed] = bal.alpha;
                 let (power_in, power_load) = pc.power(w, applied, &bal);
                 p_in += power_in;
                 *p_diss += power_load;
@@ -397,8 +397,8 @@ impl BeltSystem {
                 rec.pulley(j, belt_torque[j], bal.drive, bal.alpha);
                 rec.hub_force(j, hub[j][0], hub[j][1]);
             }
-            let q = self.impulse_offset(j);
-            dy[q..q + IMPULSES].copy_from_slice(&[belt_torque[j], bal.drive, hub[j][0], hub[j][1]]);
+            let q = self.state_layout.impulses(j).range();
+            dy[q].copy_from_slice(&[belt_torque[j], bal.drive, hub[j][0], hub[j][1]]);
         }
         p_in
     }
@@ -418,16 +418,16 @@ impl BeltSystem {
         // Tensioner arms: I_arm alpha'' = (c - pivot) x F_hub + M_arm.
         for (j, pc) in self.pulleys[..np].iter().enumerate() {
             let Some(arm) = &pc.arm else { continue };
-            let o = pc.arm_offset;
-            let (a, w) = (y[o], y[o + 1]);
-            dy[o] = w;
+            let o = self.state_layout.arm(j);
+            let (a, w) = (y[o.angle], y[o.rate]);
+            dy[o.angle] = w;
             if self.relaxation.pulleys_held {
-                dy[o + 1] = 0.0;
+                dy[o.rate] = 0.0;
                 continue;
             }
             let moment = arm.moment(a, hub[j]).0;
             let hub_friction = arm.hub_friction(w, hub[j]).torque;
-            dy[o + 1] = (moment + arm.torque(a, w).torque + hub_friction) / arm.inertia;
+            dy[o.rate] = (moment + arm.torque(a, w).torque + hub_friction) / arm.inertia;
             *p_diss += arm.dissipation(a, w) - hub_friction * w;
         }
     }

@@ -24,7 +24,8 @@
 use crate::model::matmul::mm;
 use crate::model::params::MAX_PULLEYS;
 use crate::model::simd::{self, Isa};
-use crate::model::system::{BeltSystem, BODY_DOF};
+use crate::model::state::BodyIndex;
+use crate::model::system::BeltSystem;
 use crate::solver::jacobian::{BodyArmJacobian, BodyJacobian, Jacobian, NEXT, PREV, SELF};
 use nalgebra::{Matrix2, Matrix3, RowVector3, SMatrix, SVector, Vector2, Vector3};
 
@@ -134,7 +135,7 @@ impl IterationMatrix {
         let free = (0..sys.np)
             .filter(|&j| !sys.pulleys[j].speed_driven)
             .count();
-        match 3 + free + sys.n_arms {
+        match 3 + free + sys.state_layout.n_arms() {
             3 => Self::B3(Factors::new(sys)),
             4 => Self::B4(Factors::new(sys)),
             5 => Self::B5(Factors::new(sys)),
@@ -196,8 +197,8 @@ impl IterationMatrix {
 /// Body i's position entries (x, y, phi) of a state-sized vector.
 #[inline(always)]
 fn positions(b: &[f64], i: usize) -> Vector3<f64> {
-    let o = BODY_DOF * i;
-    Vector3::new(b[o], b[o + 1], b[o + 2])
+    let o = BodyIndex::of(i);
+    Vector3::new(b[o.x], b[o.y], b[o.angle])
 }
 
 impl<const NB: usize> Factors<NB> {
@@ -585,7 +586,7 @@ impl<const NB: usize> Factors<NB> {
         dv: Vector3<f64>,
         bz: f64,
     ) {
-        let o = BODY_DOF * i;
+        let o = BodyIndex::of(i);
         let dq = positions(b, i) + c * dv;
         // bz is b_z + c g_q b_q (+ c g_alpha b_alpha); add the terms of the
         // increments
@@ -607,9 +608,9 @@ impl<const NB: usize> Factors<NB> {
                 }
             }
         }
-        b[o..o + 3].copy_from_slice(dq.as_slice());
-        b[o + 3..o + 6].copy_from_slice(dv.as_slice());
-        b[o + 6] = dz;
+        b[o.x..=o.angle].copy_from_slice(dq.as_slice());
+        b[o.vx..=o.spin].copy_from_slice(dv.as_slice());
+        b[o.creep] = dz;
     }
 
     /// Step 1 of [`Self::solve`], forward along the belt: each body's
@@ -633,7 +634,7 @@ impl<const NB: usize> Factors<NB> {
         let mut rw = SVector::<f64, NB>::zeros();
         for (j, s) in view.slots().iter().enumerate() {
             if let Some(k) = *s {
-                rw[k] = b[sys.pulley_offset(j) + 1];
+                rw[k] = b[sys.state_layout.pulley(j).speed];
             }
         }
         // the arms' angle increments' right-hand sides b_alpha, which enter
@@ -641,22 +642,22 @@ impl<const NB: usize> Factors<NB> {
         let mut b_arm = [0.0; MAX_PULLEYS];
         for (j, s) in view.arm_slots().iter().enumerate() {
             if let Some(k) = *s {
-                let o = sys.pulleys[j].arm_offset;
-                b_arm[j] = b[o];
+                let o = sys.state_layout.arm(j);
+                b_arm[j] = b[o.angle];
                 let a = &jac.arms[j];
-                rw[k] = b[o + 1] + c * a.arm_accel_by_angle * b[o];
+                rw[k] = b[o.rate] + c * a.arm_accel_by_angle * b[o.angle];
                 if let Some(kp) = view.slot[j] {
-                    rw[kp] += c * a.pulley_accel_by_arm_angle * b[o];
+                    rw[kp] += c * a.pulley_accel_by_arm_angle * b[o.angle];
                 }
             }
         }
         let mut prev_rv = Vector3::zeros();
         let (mut q_prev, mut q_self) = (positions(b, n - 1), positions(b, 0));
         for (i, bj) in bodies.iter().enumerate() {
-            let o = BODY_DOF * i;
+            let o = BodyIndex::of(i);
             let q_next = positions(b, if i + 1 == n { 0 } else { i + 1 });
-            let mut bz = b[o + 6] + c * bj.creep_rate_by_position.dot(&q_self.transpose());
-            let mut rv = Vector3::new(b[o + 3], b[o + 4], b[o + 5])
+            let mut bz = b[o.creep] + c * bj.creep_rate_by_position.dot(&q_self.transpose());
+            let mut rv = Vector3::new(b[o.vx], b[o.vy], b[o.spin])
                 + c * (mm(&bj.accel_by_position[PREV], &q_prev)
                     + mm(&bj.accel_by_position[SELF], &q_self)
                     + mm(&bj.accel_by_position[NEXT], &q_next));
@@ -749,8 +750,8 @@ impl<const NB: usize> Factors<NB> {
             if sys.pulleys[j].decoupler.is_none() {
                 continue;
             }
-            let o = sys.pulleys[j].decoupler_offset;
-            let gv = self.dec_ainv[j] * Vector2::new(b[o], b[o + 1]);
+            let o = sys.state_layout.decoupler(j);
+            let gv = self.dec_ainv[j] * Vector2::new(b[o.twist], b[o.rotor_speed]);
             *g = gv;
             if let Some(k) = view.slot[j] {
                 let d = &jac.decouplers[j];
@@ -763,17 +764,17 @@ impl<const NB: usize> Factors<NB> {
         for (j, s) in view.slots().iter().enumerate() {
             if let Some(k) = *s {
                 dw[j] = xb[k];
-                let o = sys.pulley_offset(j);
-                b[o + 1] = xb[k];
-                b[o] += c * xb[k];
+                let o = sys.state_layout.pulley(j);
+                b[o.speed] = xb[k];
+                b[o.angle] += c * xb[k];
             }
         }
         for j in 0..sys.np {
             if sys.pulleys[j].decoupler.is_some() {
-                let o = sys.pulleys[j].decoupler_offset;
+                let o = sys.state_layout.decoupler(j);
                 let x = dec_g[j] + self.dec_h[j] * dw[j];
-                b[o] = x[0];
-                b[o + 1] = x[1];
+                b[o.twist] = x[0];
+                b[o.rotor_speed] = x[1];
             }
         }
         // arm rates and angles
@@ -781,9 +782,9 @@ impl<const NB: usize> Factors<NB> {
         for (j, s) in view.arm_slots().iter().enumerate() {
             if let Some(k) = *s {
                 dr[j] = xb[k];
-                let o = sys.pulleys[j].arm_offset;
-                b[o + 1] = xb[k];
-                b[o] += c * xb[k];
+                let o = sys.state_layout.arm(j);
+                b[o.rate] = xb[k];
+                b[o.angle] += c * xb[k];
             }
         }
         // 2. backward: velocities, then positions and creep of each body
@@ -823,11 +824,10 @@ impl<const NB: usize> Factors<NB> {
         // 3. impulses and the input energy: nothing depends on them, their
         //    rows give x_q = b_q + c (dG/dy) x
         let (rows, power) = jac.impulse_rows(sys, b);
-        b[sys.energy_offset()] += c * power;
+        b[sys.state_layout.energy().work_in] += c * power;
         for (j, r) in rows.iter().enumerate().take(sys.np) {
-            let q = sys.impulse_offset(j);
-            for (k, v) in r.iter().enumerate() {
-                b[q + k] += c * v;
+            for (q, v) in sys.state_layout.impulses(j).range().zip(r) {
+                b[q] += c * v;
             }
         }
     }

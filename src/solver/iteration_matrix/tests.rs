@@ -4,6 +4,7 @@
 use super::*;
 use crate::drive::Drive;
 use crate::model::params::{DecouplerParams, DriveParams, PulleyParams, TensionerArm};
+use crate::model::state::BodyIndex;
 
 /// Gaussian elimination with partial pivoting (row-major `a`), the
 /// reference for the structured solves.
@@ -93,24 +94,28 @@ fn solves_like_dense_gaussian_elimination() {
         for j in 0..2 {
             if dec {
                 // engaged on hub 1, overrunning on hub 2
-                let o = sys.pulleys[j].decoupler_offset;
-                y[o] = [0.05, 0.02][j];
-                y[o + 1] = [-3.0, -40.0][j];
+                let o = sys.state_layout.decoupler(j);
+                y[o.twist] = [0.05, 0.02][j];
+                y[o.rotor_speed] = [-3.0, -40.0][j];
             }
         }
         for i in 0..sys.n {
-            let o = BODY_DOF * i;
-            y[o + 3] = 0.3 * (i as f64).sin();
-            y[o + 5] = 10.0 * (i as f64).cos();
-            y[o + 6] = 4e-5 * (i as f64 * 0.3).sin();
+            let o = BodyIndex::of(i);
+            y[o.vx] = 0.3 * (i as f64).sin();
+            y[o.spin] = 10.0 * (i as f64).cos();
+            y[o.creep] = 4e-5 * (i as f64 * 0.3).sin();
         }
         for (k, pc) in sys.pulleys[..sys.np].iter().enumerate() {
             if pc.arm.is_some() {
-                y[pc.arm_offset] = 2e-4 * (k as f64 + 1.0);
-                y[pc.arm_offset + 1] = [0.004, -0.3, 1.0][k];
+                let o = sys.state_layout.arm(k);
+                y[o.angle] = 2e-4 * (k as f64 + 1.0);
+                y[o.rate] = [0.004, -0.3, 1.0][k];
             }
         }
-        assert_eq!(sys.n_arms, usize::from(arms) * if three { 2 } else { 1 });
+        assert_eq!(
+            sys.state_layout.n_arms(),
+            usize::from(arms) * if three { 2 } else { 1 }
+        );
         let dim = sys.dim();
         let mut jac = Jacobian::new(sys);
         sys.jacobian(0.01, &y, &mut jac);
@@ -156,10 +161,10 @@ fn avx2_build_matches_baseline_to_the_bit() {
     let sys = d.system();
     let mut y = d.state().to_vec();
     for i in 0..sys.n {
-        let o = BODY_DOF * i;
-        y[o + 3] += 0.3 * (i as f64).sin();
-        y[o + 5] += 10.0 * (i as f64).cos();
-        y[o + 6] = 4e-5 * (i as f64 * 0.3).sin();
+        let o = BodyIndex::of(i);
+        y[o.vx] += 0.3 * (i as f64).sin();
+        y[o.spin] += 10.0 * (i as f64).cos();
+        y[o.creep] = 4e-5 * (i as f64 * 0.3).sin();
     }
     let mut jac = Jacobian::new(sys);
     sys.jacobian(0.01, &y, &mut jac);

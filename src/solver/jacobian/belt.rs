@@ -4,7 +4,8 @@
 use super::{perp, Jacobian, NEXT, PREV, SELF};
 use crate::model::elements::sde::{self, BodyEnd};
 use crate::model::matmul::mm;
-use crate::model::system::{BeltSystem, BODY_DOF};
+use crate::model::state::BodyIndex;
+use crate::model::system::BeltSystem;
 use crate::model::trig;
 use nalgebra::{Matrix3, SMatrix, Vector2};
 
@@ -20,25 +21,25 @@ impl BeltSystem {
         // c = k. Gap d = J_d q-ish, generalized forces Q = -J_d^T F (eq. 20-23).
         let (kt, bt) = self.bend.partials();
         // sin/cos of each body angle once: body k's is body k+1's "previous"
-        let mut prev_sc = trig::sin_cos(y[BODY_DOF * (n - 1) + 2]);
+        let mut prev_sc = trig::sin_cos(y[BodyIndex::of(n - 1).angle]);
         for k in 0..n {
             let p = if k == 0 { n - 1 } else { k - 1 };
-            let (op, oc) = (BODY_DOF * p, BODY_DOF * k);
+            let (op, oc) = (BodyIndex::of(p), BodyIndex::of(k));
             let (sp, cp) = prev_sc;
-            let (sc, cc) = trig::sin_cos(y[oc + 2]);
+            let (sc, cc) = trig::sin_cos(y[oc.angle]);
             prev_sc = (sc, cc);
             let hp = Vector2::new(hl * cp, hl * sp);
             let hc = Vector2::new(hl * cc, hl * sc);
             let (hpp, hcp) = (perp(hp), perp(hc));
-            let (wp, wc) = (y[op + 5], y[oc + 5]);
-            let end = |o: usize, h: Vector2<f64>| BodyEnd {
-                x: y[o],
-                y: y[o + 1],
+            let (wp, wc) = (y[op.spin], y[oc.spin]);
+            let end = |o: BodyIndex, h: Vector2<f64>| BodyEnd {
+                x: y[o.x],
+                y: y[o.y],
                 hx: h.x,
                 hy: h.y,
-                vx: y[o + 3],
-                vy: y[o + 4],
-                w: y[o + 5],
+                vx: y[o.vx],
+                vy: y[o.vy],
+                w: y[o.spin],
             };
             let (d, dd) = sde::gap(end(op, hp), end(oc, hc));
             let (force, f_d, f_dd) = self.axial.partials(d, dd);
@@ -116,8 +117,8 @@ impl BeltSystem {
         let transverse = self.transverse();
         if transverse.acts() {
             for (i, b) in jac.bodies.iter_mut().enumerate() {
-                let o = BODY_DOF * i;
-                let (d_v, d_phi) = transverse.partials(y[o + 2], [y[o + 3], y[o + 4]]);
+                let o = BodyIndex::of(i);
+                let (d_v, d_phi) = transverse.partials(y[o.angle], [y[o.vx], y[o.vy]]);
                 for r in 0..2 {
                     b.accel_by_position[SELF][(r, 2)] += d_phi[r];
                     for c in 0..2 {

@@ -7,7 +7,8 @@ use crate::model::elements::contact;
 use crate::model::elements::friction::Law;
 use crate::model::matmul::mm;
 use crate::model::params::MAX_PULLEYS;
-use crate::model::system::{BeltSystem, PulleyConst, BODY_DOF};
+use crate::model::state::BodyIndex;
+use crate::model::system::{BeltSystem, PulleyConst};
 use crate::model::trig;
 use nalgebra::{Matrix2, Matrix2x3, RowVector3, Vector2, Vector3};
 
@@ -29,9 +30,9 @@ impl BeltSystem {
         let n = self.n;
         let np = self.np;
         let inv_m = self.inv_mass;
-        let with_arms = self.n_arms > 0;
+        let with_arms = self.state_layout.n_arms() > 0;
         for i in 0..n {
-            let o = BODY_DOF * i;
+            let o = BodyIndex::of(i);
             let b = &mut jac.bodies[i];
             // reset what this evaluation accumulates into or may leave
             // unset; the entries of pulleys j >= np stay zero from `new`
@@ -54,8 +55,8 @@ impl BeltSystem {
             if with_arms {
                 jac.arm_bodies[i] = BodyArmJacobian::default();
             }
-            let x = [y[o], y[o + 1]];
-            let z = y[o + 6];
+            let x = [y[o.x], y[o.y]];
+            let z = y[o.creep];
             let mut fq = Matrix2::zeros();
             let mut fv = Matrix2::zeros();
             if self.points > 1 {
@@ -65,7 +66,7 @@ impl BeltSystem {
                 let pc = &pulleys[j];
                 let [cx, cy, cvx, cvy] = centre[j];
                 // velocity relative to the pulley centre (a tensioner's moves)
-                let v = [y[o + 3] - cvx, y[o + 4] - cvy];
+                let v = [y[o.vx] - cvx, y[o.vy] - cvy];
                 let kin = contact::kinematics(
                     [x[0] - cx, x[1] - cy],
                     v,
@@ -253,7 +254,7 @@ impl BeltSystem {
         jac: &mut Jacobian,
         arms: &Arms,
     ) {
-        let o = BODY_DOF * i;
+        let o = BodyIndex::of(i);
         let (inv_m, inv_i) = (self.inv_mass, self.inv_inertia);
         let rows = Vector3::new(inv_m, inv_m, inv_i);
         let hl = self.half_length;
@@ -263,11 +264,11 @@ impl BeltSystem {
         for j in 0..self.np {
             let pc = &pulleys[j];
             let [cx, cy, cvx, cvy] = centre[j];
-            let r = [y[o] - cx, y[o + 1] - cy];
+            let r = [y[o.x] - cx, y[o.y] - cy];
             if r[0] * r[0] + r[1] * r[1] >= pc.reach * pc.reach {
                 continue;
             }
-            let &mut (sn, cs) = sin_cos.get_or_insert_with(|| trig::sin_cos(y[o + 2]));
+            let &mut (sn, cs) = sin_cos.get_or_insert_with(|| trig::sin_cos(y[o.angle]));
             let pulley = contact::PulleySide {
                 radii: &pc.radii,
                 omega: omega_p[j],
@@ -278,10 +279,10 @@ impl BeltSystem {
             };
             let body = contact::BodySide {
                 r,
-                v: [y[o + 3] - cvx, y[o + 4] - cvy],
+                v: [y[o.vx] - cvx, y[o.vy] - cvy],
                 h: [hl * cs, hl * sn],
-                w: y[o + 5],
-                z: y[o + 6],
+                w: y[o.spin],
+                z: y[o.creep],
             };
             let Some((sg, d)) =
                 contact::segment_of::<K>(&self.contact, friction, &pulley, &body, true)

@@ -275,7 +275,8 @@ impl BeltSystem {
             jac.arms[j] = ArmJacobian::default();
             let pc = &self.pulleys[j];
             if let Some(arm) = &pc.arm {
-                let (a, w) = (y[pc.arm_offset], y[pc.arm_offset + 1]);
+                let o = self.state_layout.arm(j);
+                let (a, w) = (y[o.angle], y[o.rate]);
                 let dc = arm.centre(a).1;
                 lever[j] = Vector2::new(dc[0], dc[1]);
                 // c'' = -(c - pivot)

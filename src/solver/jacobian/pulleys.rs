@@ -28,8 +28,8 @@ impl BeltSystem {
                 }
                 continue;
             };
-            let d = pc.decoupler_offset;
-            let (twist, w_r) = (y[d], y[d + 1]);
+            let d = self.state_layout.decoupler(j);
+            let (twist, w_r) = (y[d.twist], y[d.rotor_speed]);
             let law = dc.law(twist, dc.relative_rate(omega_p[j], w_r));
             let s = dc.sense;
             // w = s (omega_h - omega_r): dw/d omega_h = s, dw/d omega_r = -s;
@@ -70,7 +70,8 @@ impl BeltSystem {
         for j in 0..np {
             let pc = &self.pulleys[j];
             let Some(arm) = &pc.arm else { continue };
-            let (a, w) = (y[pc.arm_offset], y[pc.arm_offset + 1]);
+            let o = self.state_layout.arm(j);
+            let (a, w) = (y[o.angle], y[o.rate]);
             let own = arm.torque(a, w);
             let inv = inv_arm[j];
             // the hub-load friction through the arm's rate and, by the hub

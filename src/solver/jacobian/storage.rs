@@ -7,7 +7,8 @@ use super::{
 };
 use crate::model::matmul::mm;
 use crate::model::params::MAX_PULLEYS;
-use crate::model::system::{BeltSystem, BODY_DOF};
+use crate::model::state::BodyIndex;
+use crate::model::system::BeltSystem;
 use nalgebra::{Vector2, Vector3};
 
 impl Jacobian {
@@ -28,7 +29,7 @@ impl Jacobian {
             power_speed: [0.0; MAX_PULLEYS],
             power_applied: [0.0; MAX_PULLEYS],
             arms: [ArmJacobian::default(); MAX_PULLEYS],
-            arm_bodies: if sys.n_arms > 0 {
+            arm_bodies: if sys.state_layout.n_arms() > 0 {
                 vec![BodyArmJacobian::default(); sys.n]
             } else {
                 Vec::new()
@@ -173,11 +174,11 @@ impl Jacobian {
             if b.touching == 0 {
                 continue;
             }
-            let o = BODY_DOF * i;
+            let o = BodyIndex::of(i);
             let (dq, dv, dz) = (
-                Vector3::new(x[o], x[o + 1], x[o + 2]),
-                Vector3::new(x[o + 3], x[o + 4], x[o + 5]),
-                x[o + 6],
+                Vector3::new(x[o.x], x[o.y], x[o.angle]),
+                Vector3::new(x[o.vx], x[o.vy], x[o.spin]),
+                x[o.creep],
             );
             for j in 0..np {
                 if b.touching & (1 << j) != 0 {
@@ -193,33 +194,35 @@ impl Jacobian {
         }
         let mut out = [[0.0; 4]; MAX_PULLEYS];
         let mut power = 0.0;
+        let states = &sys.state_layout;
         for j in 0..np {
             let pc = &sys.pulleys[j];
             // input power: (applied + drive) omega, applied omega_rotor
             // behind a decoupler
             if pc.decoupler.is_some() {
-                power += self.power_applied[j] * x[pc.decoupler_offset + 1];
+                power += self.power_applied[j] * x[states.decoupler(j).rotor_speed];
             } else if self.free[j] {
-                power += self.power_applied[j] * x[sys.pulley_offset(j) + 1];
+                power += self.power_applied[j] * x[states.pulley(j).speed];
             }
             if self.free[j] {
-                let dw = x[sys.pulley_offset(j) + 1];
+                let dw = x[states.pulley(j).speed];
                 torque[j] += self.torque_by_pulley_speed[j] * dw;
                 hub[j] += self.hub_by_pulley_speed[j] * dw;
             }
             if pc.arm.is_some() {
-                let (o, a) = (pc.arm_offset, &self.arms[j]);
-                torque[j] += a.torque_by_arm_angle * x[o] + a.torque_by_arm_rate * x[o + 1];
-                hub[j] += a.hub_by_arm_angle * x[o] + a.hub_by_arm_rate * x[o + 1];
+                let (o, a) = (states.arm(j), &self.arms[j]);
+                let (angle, rate) = (x[o.angle], x[o.rate]);
+                torque[j] += a.torque_by_arm_angle * angle + a.torque_by_arm_rate * rate;
+                hub[j] += a.hub_by_arm_angle * angle + a.hub_by_arm_rate * rate;
             }
             // drive torque of a speed-driven pulley: prescribed terms less
             // the belt's torque (and plus a decoupler's clutch torque)
             let drive = if pc.speed_driven {
                 let mut d = -torque[j];
                 if pc.decoupler.is_some() {
-                    let o = pc.decoupler_offset;
-                    d += self.decouplers[j].drive_torque_by_twist * x[o]
-                        + self.decouplers[j].drive_torque_by_rotor_speed * x[o + 1];
+                    let o = states.decoupler(j);
+                    d += self.decouplers[j].drive_torque_by_twist * x[o.twist]
+                        + self.decouplers[j].drive_torque_by_rotor_speed * x[o.rotor_speed];
                 }
                 d
             } else {
@@ -273,78 +276,86 @@ impl Jacobian {
         let mut m = vec![0.0; dim * dim];
         let mut set = |r: usize, c: usize, v: f64| m[r * dim + c] += v;
         for (i, b) in self.bodies.iter().enumerate() {
-            let o = BODY_DOF * i;
-            for r in 0..3 {
-                set(o + r, o + 3 + r, 1.0); // dq/dt = v
+            let o = BodyIndex::of(i);
+            let (q, v, z) = (o.coordinates(), o.rates(), o.creep);
+            for (&qr, &vr) in q.iter().zip(&v) {
+                set(qr, vr, 1.0); // dq/dt = v
             }
             for (slot, nb) in [(PREV, (i + n - 1) % n), (SELF, i), (NEXT, (i + 1) % n)] {
-                let on = BODY_DOF * nb;
-                for r in 0..3 {
+                let on = BodyIndex::of(nb);
+                for (r, &vr) in v.iter().enumerate() {
                     for c in 0..3 {
-                        set(o + 3 + r, on + c, b.accel_by_position[slot][(r, c)]);
-                        set(o + 3 + r, on + 3 + c, b.accel_by_velocity[slot][(r, c)]);
+                        set(vr, on.coordinates()[c], b.accel_by_position[slot][(r, c)]);
+                        set(vr, on.rates()[c], b.accel_by_velocity[slot][(r, c)]);
                     }
                 }
             }
             for r in 0..3 {
-                set(o + 3 + r, o + 6, b.accel_by_creep[r]);
-                set(o + 6, o + r, b.creep_rate_by_position[r]);
-                set(o + 6, o + 3 + r, b.creep_rate_by_velocity[r]);
+                set(v[r], z, b.accel_by_creep[r]);
+                set(z, q[r], b.creep_rate_by_position[r]);
+                set(z, v[r], b.creep_rate_by_velocity[r]);
             }
             for j in 0..sys.np {
-                let w = sys.pulley_offset(j) + 1;
+                let w = sys.state_layout.pulley(j).speed;
                 for r in 0..3 {
-                    set(o + 3 + r, w, b.accel_by_pulley_speed[j][r]);
-                    set(w, o + r, b.pulley_accel_by_position[j][r]);
-                    set(w, o + 3 + r, b.pulley_accel_by_velocity[j][r]);
+                    set(v[r], w, b.accel_by_pulley_speed[j][r]);
+                    set(w, q[r], b.pulley_accel_by_position[j][r]);
+                    set(w, v[r], b.pulley_accel_by_velocity[j][r]);
                 }
-                set(o + 6, w, b.creep_rate_by_pulley_speed[j]);
-                set(w, o + 6, b.pulley_accel_by_creep[j]);
+                set(z, w, b.creep_rate_by_pulley_speed[j]);
+                set(w, z, b.pulley_accel_by_creep[j]);
             }
         }
         for j in 0..sys.np {
-            let o = sys.pulley_offset(j);
+            let states = &sys.state_layout;
+            let p = states.pulley(j);
             if self.free[j] {
-                set(o, o + 1, 1.0);
+                set(p.angle, p.speed, 1.0);
             }
             for k in 0..sys.np {
                 set(
-                    o + 1,
-                    sys.pulley_offset(k) + 1,
+                    p.speed,
+                    states.pulley(k).speed,
                     self.pulley_accel_by_pulley_speed[j][k],
                 );
             }
             if sys.pulleys[j].decoupler.is_some() {
-                let (d, dj) = (sys.pulleys[j].decoupler_offset, &self.decouplers[j]);
-                let h = o + 1;
+                let dj = &self.decouplers[j];
+                let (d, r, h) = (
+                    states.decoupler(j).twist,
+                    states.decoupler(j).rotor_speed,
+                    p.speed,
+                );
                 set(d, d, dj.twist_rate_by_twist);
                 set(d, h, dj.twist_rate_by_hub_speed);
-                set(d, d + 1, dj.twist_rate_by_rotor_speed);
-                set(d + 1, d, dj.rotor_accel_by_twist);
-                set(d + 1, h, dj.rotor_accel_by_hub_speed);
-                set(d + 1, d + 1, dj.rotor_accel_by_rotor_speed);
+                set(d, r, dj.twist_rate_by_rotor_speed);
+                set(r, d, dj.rotor_accel_by_twist);
+                set(r, h, dj.rotor_accel_by_hub_speed);
+                set(r, r, dj.rotor_accel_by_rotor_speed);
                 set(h, d, dj.hub_accel_by_twist);
-                set(h, d + 1, dj.hub_accel_by_rotor_speed);
+                set(h, r, dj.hub_accel_by_rotor_speed);
             }
             if sys.pulleys[j].arm.is_some() {
-                let (a, aj) = (sys.pulleys[j].arm_offset, &self.arms[j]);
-                set(a, a + 1, 1.0);
-                set(a + 1, a, aj.arm_accel_by_angle);
-                set(a + 1, a + 1, aj.arm_accel_by_rate);
-                set(a + 1, o + 1, aj.arm_accel_by_pulley_speed);
-                set(o + 1, a, aj.pulley_accel_by_arm_angle);
-                set(o + 1, a + 1, aj.pulley_accel_by_arm_rate);
+                let aj = &self.arms[j];
+                let (a, ar) = (states.arm(j).angle, states.arm(j).rate);
+                set(a, ar, 1.0);
+                set(ar, a, aj.arm_accel_by_angle);
+                set(ar, ar, aj.arm_accel_by_rate);
+                set(ar, p.speed, aj.arm_accel_by_pulley_speed);
+                set(p.speed, a, aj.pulley_accel_by_arm_angle);
+                set(p.speed, ar, aj.pulley_accel_by_arm_rate);
                 for (i, b) in self.arm_bodies.iter().enumerate() {
-                    let ob = BODY_DOF * i;
+                    let ob = BodyIndex::of(i);
+                    let (q, v, z) = (ob.coordinates(), ob.rates(), ob.creep);
                     for r in 0..3 {
-                        set(ob + 3 + r, a, b.accel_by_arm_angle[j][r]);
-                        set(ob + 3 + r, a + 1, b.accel_by_arm_rate[j][r]);
-                        set(a + 1, ob + r, b.arm_accel_by_position[j][r]);
-                        set(a + 1, ob + 3 + r, b.arm_accel_by_velocity[j][r]);
+                        set(v[r], a, b.accel_by_arm_angle[j][r]);
+                        set(v[r], ar, b.accel_by_arm_rate[j][r]);
+                        set(ar, q[r], b.arm_accel_by_position[j][r]);
+                        set(ar, v[r], b.arm_accel_by_velocity[j][r]);
                     }
-                    set(ob + 6, a, b.creep_rate_by_arm_angle[j]);
-                    set(ob + 6, a + 1, b.creep_rate_by_arm_rate[j]);
-                    set(a + 1, ob + 6, b.arm_accel_by_creep[j]);
+                    set(z, a, b.creep_rate_by_arm_angle[j]);
+                    set(z, ar, b.creep_rate_by_arm_rate[j]);
+                    set(ar, z, b.arm_accel_by_creep[j]);
                 }
             }
         }
@@ -354,10 +365,10 @@ impl Jacobian {
             e[col] = 1.0;
             let (rows, power) = self.impulse_rows(sys, &e);
             e[col] = 0.0;
-            set(sys.energy_offset(), col, power);
+            set(sys.state_layout.energy().work_in, col, power);
             for (j, r) in rows.iter().enumerate().take(sys.np) {
-                for (k, v) in r.iter().enumerate() {
-                    set(sys.impulse_offset(j) + k, col, *v);
+                for (q, v) in sys.state_layout.impulses(j).range().zip(r) {
+                    set(q, col, *v);
                 }
             }
         }

@@ -6,7 +6,8 @@ use crate::drive::Drive;
 use crate::model::params::{
     ArmStops, DecouplerParams, DriveParams, FrictionLaw, PulleyParams, TensionerArm,
 };
-use crate::model::system::{NoRecord, Workspace, BODY_DOF};
+use crate::model::state::{body_component, BodyComponent, BodyIndex};
+use crate::model::system::{NoRecord, Workspace};
 
 /// A small two-pulley drive (r = 50 and 45 mm) with 36 bodies at 120 N
 /// and the automatic contact damping ramp, which differs between the
@@ -44,7 +45,7 @@ fn check(sys: &BeltSystem, t: f64, y: &[f64]) -> usize {
     let mut jac = Jacobian::new(sys);
     sys.jacobian(t, y, &mut jac);
     let dense = jac.to_dense(sys);
-    let e_rows = sys.energy_offset();
+    let e_rows = sys.state_layout.energy().work_in;
     // every state but the dissipated-energy accumulator
     let states: Vec<usize> = (0..=e_rows).chain(e_rows + 2..dim).collect();
     let (mut a, mut b) = (vec![0.0; dim], vec![0.0; dim]);
@@ -54,14 +55,21 @@ fn check(sys: &BeltSystem, t: f64, y: &[f64]) -> usize {
     // a body's velocity: its column is held to the row's largest
     // velocity entry, not the row's largest (a spring's), so that the
     // dampers' partials (~1e-6 of the springs') are checked too
-    let velocity = |cc: usize| cc < BODY_DOF * sys.n && (3..6).contains(&(cc % BODY_DOF));
+    let bodies = sys.state_layout.bodies_len();
+    let component = |cc: usize| (cc < bodies).then(|| body_component(cc).1);
+    let velocity = |cc: usize| {
+        matches!(
+            component(cc),
+            Some(BodyComponent::Vx | BodyComponent::Vy | BodyComponent::Spin)
+        )
+    };
     for &c in &states {
         // relative steps: positions ~0.1 m, z ~1e-5 m; the bodies'
         // velocities ~1 m/s (spins ~30 rad/s) by 1e-6 of at least 1 (the
         // right-hand side is smooth in them at this scale: a step well
         // inside the friction law's dv = 1e-2 m/s; smaller steps lose
         // digits to rounding in the spin rows, I ~ 1e-7 kg m^2)
-        let scale = if c < BODY_DOF * sys.n && c % BODY_DOF == 6 {
+        let scale = if component(c) == Some(BodyComponent::Creep) {
             1e-11
         } else if velocity(c) {
             1e-6 * y[c].abs().max(1.0)
@@ -100,32 +108,32 @@ fn running_state(d: &Drive, creep: &[f64]) -> Vec<f64> {
     let sys = d.system();
     let mut y = d.state().to_vec();
     for i in 0..sys.n {
-        let o = BODY_DOF * i;
+        let o = BodyIndex::of(i);
         let s = (i as f64 * 0.7).sin();
-        y[o] += 1e-5 * s;
-        y[o + 1] -= 2e-5 * (i as f64 * 1.3).cos();
-        y[o + 2] += 0.01 * s;
-        y[o + 3] = 0.9 * s;
-        y[o + 4] = -0.4 * (i as f64).cos();
-        y[o + 5] = 30.0 * s;
-        y[o + 6] = creep[i % creep.len()];
+        y[o.x] += 1e-5 * s;
+        y[o.y] -= 2e-5 * (i as f64 * 1.3).cos();
+        y[o.angle] += 0.01 * s;
+        y[o.vx] = 0.9 * s;
+        y[o.vy] = -0.4 * (i as f64).cos();
+        y[o.spin] = 30.0 * s;
+        y[o.creep] = creep[i % creep.len()];
     }
     for j in 0..sys.np {
-        y[sys.pulley_offset(j) + 1] = -18.0 - j as f64;
+        y[sys.state_layout.pulley(j).speed] = -18.0 - j as f64;
     }
     // every third body in contact nearly sticks: v_T a fraction of dv
     for i in (0..sys.n).step_by(3) {
-        let o = BODY_DOF * i;
+        let o = BodyIndex::of(i);
         for j in 0..sys.np {
             let pc = &sys.pulleys[j];
-            let r = Vector2::new(y[o] - pc.cx, y[o + 1] - pc.cy);
+            let r = Vector2::new(y[o.x] - pc.cx, y[o.y] - pc.cy);
             if r.norm_squared() < pc.radius2 {
                 let nrm = r.normalize();
                 let tau = perp(nrm);
                 let w = sys.pulley_speed(j, 0.02, &y);
                 let v = (w * pc.lever - 3e-3) * tau + 0.01 * nrm;
-                y[o + 3] = v.x;
-                y[o + 4] = v.y;
+                y[o.vx] = v.x;
+                y[o.vy] = v.y;
             }
         }
     }
@@ -165,17 +173,17 @@ fn jacobian_matches_finite_differences_for_every_force_law() {
             for (j, pc) in sys.pulleys[..2].iter().enumerate() {
                 let i = (0..sys.n)
                     .find(|&i| {
-                        let o = BODY_DOF * i;
-                        let r = Vector2::new(y[o] - pc.cx, y[o + 1] - pc.cy);
+                        let o = BodyIndex::of(i);
+                        let r = Vector2::new(y[o.x] - pc.cx, y[o.y] - pc.cy);
                         r.norm_squared() < pc.radius2
                     })
                     .unwrap_or_else(|| panic!("a body on pulley {j}"));
-                let o = BODY_DOF * i;
-                let r = Vector2::new(y[o] - pc.cx, y[o + 1] - pc.cy);
+                let o = BodyIndex::of(i);
+                let r = Vector2::new(y[o.x] - pc.cx, y[o.y] - pc.cy);
                 let on_ramp =
                     Vector2::new(pc.cx, pc.cy) + r.normalize() * (pc.radius - 0.5 / pc.inv_p_max);
-                y[o] = on_ramp.x;
-                y[o + 1] = on_ramp.y;
+                y[o.x] = on_ramp.x;
+                y[o.y] = on_ramp.y;
             }
             let cols = check(d.system(), 0.02, &y);
             assert_eq!(cols, d.system().dim() - 1);
@@ -213,9 +221,9 @@ fn jacobian_covers_the_contact_along_the_body() {
         assert_eq!(sys.points, points);
         let mut y = running_state(&d, &[0.0, 3e-5, -7e-5, 1.2e-4, -1.3e-4]);
         if arm {
-            let o = sys.pulleys[1].arm_offset;
-            y[o] = 2e-4;
-            y[o + 1] = -0.3;
+            let o = sys.state_layout.arm(1);
+            y[o.angle] = 2e-4;
+            y[o.rate] = -0.3;
         }
         let mut jac = Jacobian::new(sys);
         sys.jacobian(0.02, &y, &mut jac);
@@ -256,16 +264,16 @@ fn jacobian_covers_the_decoupler() {
         }
         let d = Drive::mounted(&p, 0.0).unwrap();
         let sys = d.system();
-        assert_eq!(sys.n_decouplers, 2);
+        assert_eq!(sys.n_decouplers(), 2);
         let base = running_state(&d, &[0.0, 3e-5, -7e-5]);
         // hub speeds are -18 and -19 rad/s (running_state), or the
         // prescription -20 rad/s; u = k twist + d w with k = 30, d = 0.02
         for (twist, w_r) in [(0.1, -17.0), (1e-4, -18.0), (0.02, -40.0), (-0.01, 5.0)] {
             let mut y = base.clone();
             for j in 0..2 {
-                let o = sys.pulleys[j].decoupler_offset;
-                y[o] = twist * (1.0 + 0.1 * j as f64);
-                y[o + 1] = w_r;
+                let o = sys.state_layout.decoupler(j);
+                y[o.twist] = twist * (1.0 + 0.1 * j as f64);
+                y[o.rotor_speed] = w_r;
             }
             let cols = check(sys, 0.02, &y);
             assert_eq!(cols, sys.dim() - 1);
@@ -319,15 +327,15 @@ fn jacobian_covers_the_tensioner_arm() {
         p.pulleys[0].decoupler = Some(DecouplerParams::default());
         let d = Drive::mounted(&p, 0.0).unwrap();
         let sys = d.system();
-        assert_eq!(sys.n_arms, 1);
+        assert_eq!(sys.state_layout.n_arms(), 1);
         let base = running_state(&d, &[0.0, 3e-5, -7e-5]);
         // (angle, rate): friction in its ramp (|rate| < 0.01 rad/s) and
         // beyond it, the centre moving both ways
         for (angle, rate) in [(2e-4, 0.004), (-1e-4, -0.3), (3e-4, 2.0)] {
             let mut y = base.clone();
-            let o = sys.pulleys[1].arm_offset;
-            y[o] = angle;
-            y[o + 1] = rate;
+            let o = sys.state_layout.arm(1);
+            y[o.angle] = angle;
+            y[o.rate] = rate;
             let cols = check(sys, 0.02, &y);
             assert_eq!(cols, sys.dim() - 1);
             // the arm's row is really coupled to the bodies
