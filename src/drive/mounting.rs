@@ -8,7 +8,6 @@ use crate::model::param_id::{msg, Message, Param, Part};
 use crate::model::params::{DriveParams, MAX_PULLEYS};
 use crate::model::state;
 use crate::model::system::{BeltSystem, Recorder, Relaxation, Workspace};
-use crate::solver::knobs::TUNING;
 use crate::solver::rkf45::Rkf45;
 
 /// Settles the mounted belt into its frictionless static equilibrium with
@@ -27,7 +26,7 @@ pub(super) fn relax_into_equilibrium(
     max_steps: u64,
 ) {
     // Contact mode of one body: stiffness dN/dp at the typical penetration.
-    let k_contact = sys.contact.stiffness(TUNING.relax_penetration);
+    let k_contact = sys.contact.stiffness(MOUNTING.penetration);
     // Friction off, the pulleys (and a decoupler's rotor, a tensioner's
     // arm) held at rest.
     let relax = sys.with_relaxation(Relaxation {
@@ -37,13 +36,13 @@ pub(super) fn relax_into_equilibrium(
     });
     // Relax over a few axial diffusion times of the damped belt, at least
     // ten contact periods; stop early once everything is at rest.
-    const CHUNKS: u64 = TUNING.relax_chunks;
+    const CHUNKS: u64 = MOUNTING.chunks;
     let per_chunk = (max_steps.min(RELAX_MAX_STEPS) / CHUNKS).max(1);
     let mut rk = Rkf45::new(
         y.len(),
-        TUNING.relax_rel_tol,
-        TUNING.relax_abs_tol,
-        TUNING.relax_initial_step,
+        MOUNTING.rel_tol,
+        MOUNTING.abs_tol,
+        MOUNTING.initial_step,
         per_chunk,
     );
     let mut t = 0.0;
@@ -57,7 +56,7 @@ pub(super) fn relax_into_equilibrium(
         let v_max = state::bodies(y, relax.n)
             .map(|b| b.velocity()[0].abs().max(b.velocity()[1].abs()))
             .fold(0.0, f64::max);
-        if t >= TUNING.relax_min_periods * period && v_max < TUNING.relax_rest_speed {
+        if t >= MOUNTING.min_periods * period && v_max < MOUNTING.rest_speed {
             break;
         }
     }
@@ -119,7 +118,7 @@ pub(super) fn mount_arms(sys: &mut BeltSystem, ws: &mut Workspace, t: f64, y: &[
 }
 
 /// Step-count guard of the equilibrium relaxation.
-const RELAX_MAX_STEPS: u64 = TUNING.relax_max_steps;
+const RELAX_MAX_STEPS: u64 = MOUNTING.max_steps;
 
 /// The probe body [`PROBE_AUTO`] stands for: the body whose centre lies
 /// nearest the middle of the free span from pulley 1 to pulley 2 in the
@@ -141,7 +140,7 @@ pub(super) fn auto_probe(layout: &Layout) -> usize {
 /// below which a wrap counts as undamped: the belt then rattles on the
 /// pulley after a shock and loses traction (docs/model.md, "Contact"; the
 /// paper's 5PK drive has 0.26, its section-3 drive as printed 6e-5).
-const WEAK_CONTACT_DAMPING: f64 = TUNING.weak_contact_damping;
+const WEAK_CONTACT_DAMPING: f64 = MOUNTING.weak_contact_damping;
 
 /// Mass per length above which a belt is taken for a unit slip and warned
 /// about [kg/m]: drive belts weigh about 0.01 (small flat and round belts)
@@ -227,3 +226,47 @@ pub(super) fn warnings(params: &DriveParams, layout: &Layout, sys: &BeltSystem) 
     out.extend(super::mesh_check::warnings(params, layout));
     out
 }
+
+/// The mounting's knobs, each with its value and why: the relaxation of the
+/// mounted belt into equilibrium (its own RKF45 run, not the drive's
+/// solver settings) and the contact-damping warning.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct MountingKnobs {
+    /// The relaxation of the mounted belt into equilibrium (before t0, with
+    /// friction off and mass-proportional damping near critical for the
+    /// contact mode) runs RKF45 at this relative tolerance...
+    pub(crate) rel_tol: f64,
+    /// ... this absolute tolerance [m, m/s] ...
+    pub(crate) abs_tol: f64,
+    /// ... from this first step [s] ...
+    pub(crate) initial_step: f64,
+    /// ... in this many chunks of two contact periods each ...
+    pub(crate) chunks: u64,
+    /// ... for at least this many contact periods, and stops once every body
+    /// moves slower than `rest_speed` [m/s].
+    pub(crate) min_periods: f64,
+    /// See `min_periods`.
+    pub(crate) rest_speed: f64,
+    /// Penetration [m] at which the relaxation takes the contact stiffness
+    /// dN/dp for its damping (a typical equilibrium penetration).
+    pub(crate) penetration: f64,
+    /// Step-count guard of the relaxation in total.
+    pub(crate) max_steps: u64,
+    /// Damping ratio of the radial contact mode below which a wrap counts as
+    /// undamped and a warning names the contact damping (the belt rattles on
+    /// the pulley after a shock; the paper's 5PK drive has 0.26).
+    pub(crate) weak_contact_damping: f64,
+}
+
+/// The values in use.
+pub(crate) const MOUNTING: MountingKnobs = MountingKnobs {
+    rel_tol: 1e-5,
+    abs_tol: 1e-9,
+    initial_step: 1e-7,
+    chunks: 20,
+    min_periods: 10.0,
+    rest_speed: 1e-5,
+    penetration: 2e-4,
+    max_steps: 5_000_000,
+    weak_contact_damping: 0.02,
+};

@@ -6,6 +6,10 @@
 //! paper's drives and are documented in docs/model.md ("Integrators"). A
 //! change to any of them changes results; rerun the accuracy benchmarks
 //! (`cargo bench --bench belt -- accuracy`, `cargo bench --bench stiff`).
+//! The model's own regularisations sit with their elements (the SDE's at a
+//! zero gap: `elements::sde::REGULARISATION`, the clutch band:
+//! `elements::decoupler::CLUTCH_BAND`), the mounting's relaxation knobs with
+//! the mounting (`drive/mounting.rs`, `MOUNTING`).
 
 /// The solvers' fixed knobs. [`TUNING`] holds the values in use.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -120,34 +124,6 @@ pub struct SolverTuning {
     /// and 1.7-2.1 times fewer trials for about as many Jacobians and fewer
     /// factorizations.
     pub jacobian_max_age: u32,
-    /// Regularisation length of the SDE direction at a zero gap, relative to
-    /// the body length (squared, it is the `eps2` of the stretch rate): far
-    /// below any gap a running belt has (strain 1e-6 of a body).
-    pub sde_regularisation: f64,
-    /// The relaxation of the mounted belt into equilibrium (before t0, with
-    /// friction off and mass-proportional damping near critical for the
-    /// contact mode) runs RKF45 at this relative tolerance...
-    pub relax_rel_tol: f64,
-    /// ... this absolute tolerance [m, m/s] ...
-    pub relax_abs_tol: f64,
-    /// ... from this first step [s] ...
-    pub relax_initial_step: f64,
-    /// ... in this many chunks of two contact periods each ...
-    pub relax_chunks: u64,
-    /// ... for at least this many contact periods, and stops once every body
-    /// moves slower than `relax_rest_speed` [m/s].
-    pub relax_min_periods: f64,
-    /// See `relax_min_periods`.
-    pub relax_rest_speed: f64,
-    /// Penetration [m] at which the relaxation takes the contact stiffness
-    /// dN/dp for its damping (a typical equilibrium penetration).
-    pub relax_penetration: f64,
-    /// Step-count guard of the relaxation in total.
-    pub relax_max_steps: u64,
-    /// Damping ratio of the radial contact mode below which a wrap counts as
-    /// undamped and a warning names the contact damping (the belt rattles on
-    /// the pulley after a shock; the paper's 5PK drive has 0.26).
-    pub weak_contact_damping: f64,
 }
 
 impl SolverTuning {
@@ -198,14 +174,4 @@ pub const TUNING: SolverTuning = SolverTuning {
     energy_error_order: 4.0,
     energy_roundoff_ulps: 1e3,
     jacobian_max_age: 1,
-    sde_regularisation: 1e-6,
-    relax_rel_tol: 1e-5,
-    relax_abs_tol: 1e-9,
-    relax_initial_step: 1e-7,
-    relax_chunks: 20,
-    relax_min_periods: 10.0,
-    relax_rest_speed: 1e-5,
-    relax_penetration: 2e-4,
-    relax_max_steps: 5_000_000,
-    weak_contact_damping: 0.02,
 };

@@ -63,7 +63,18 @@ pub struct AxialSde {
     pub eps2: f64,
 }
 
+/// Regularisation length of the direction at a zero gap, relative to the
+/// body length: far below any gap a running belt has (strain 1e-6 of a
+/// body). Squared, in metres, it is [`AxialSde::eps2`].
+pub const REGULARISATION: f64 = 1e-6;
+
 impl AxialSde {
+    /// [`Self::eps2`] for bodies of length `l`: (1e-6 l)^2
+    /// ([`REGULARISATION`]).
+    pub fn regularisation_eps2(l: f64) -> f64 {
+        (REGULARISATION * l) * (REGULARISATION * l)
+    }
+
     /// `(|d|^2, rho)`: squared gap length and stretch rate.
     #[inline(always)]
     pub fn rate(&self, d: [f64; 2], dd: [f64; 2]) -> (f64, f64) {

@@ -37,7 +37,6 @@ use crate::model::elements::transverse::TransverseDamper;
 use crate::model::layout::Layout;
 use crate::model::params::{DriveParams, MAX_PULLEYS};
 pub use crate::model::state::StateLayout;
-use crate::solver::knobs::TUNING;
 
 /// Values per body in the state vector.
 pub const BODY_DOF: usize = 7;
@@ -243,7 +242,7 @@ impl BeltSystem {
                 k: b.ea / l,
                 b: b.axial_damping / l,
                 bt: b.shear_damping_factor * b.axial_damping / l,
-                eps2: (TUNING.sde_regularisation * l) * (TUNING.sde_regularisation * l),
+                eps2: AxialSde::regularisation_eps2(l),
             },
             bend: TorsionalSde {
                 k: b.bending_stiffness / l,
