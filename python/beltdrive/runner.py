@@ -13,13 +13,47 @@ import tempfile
 import threading
 import time
 
+from ctypes import byref
+
 import numpy as np
-from fmpy import extract, read_model_description
-from fmpy.simulation import instantiate_fmu, simulate_fmu
+from fmpy import calloc, extract, free, read_model_description
+from fmpy.fmi1 import printLogMessage
+from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
+                       fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
+from fmpy.logging import addLoggerProxy
+from fmpy.simulation import simulate_fmu
 
 from .study import compile_expression
 
 _STATUS = {0: "OK", 1: "Warning", 2: "Discard", 3: "Error", 4: "Fatal", 5: "Pending"}
+
+# FMPy's native logger proxy (fmpy.logging.addLoggerProxy) formats an FMU's
+# message and hands it to ONE process-wide Python callback: the last one
+# registered. A logger given to fmpy.simulation.instantiate_fmu is registered
+# there and freed with its instance; after that, any FMU of the process that
+# logs, through FMPy's default callbacks too, calls freed memory (a
+# segmentation fault inside fmi2ExitInitializationMode when a parameter set
+# is warned about). So the runs register one callback for the life of the
+# process, which hands each message to the run of the calling thread, and
+# outside a run to FMPy's own printLogMessage.
+_SINK = threading.local()
+
+
+def _dispatch(env, instance, status, category, message):
+    logs = getattr(_SINK, "logs", None)
+    if logs is None:
+        printLogMessage(env, instance, status, category, message)
+        return
+    cat = category.decode(errors="replace") if category else ""
+    msg = message.decode(errors="replace") if message else ""
+    logs.append(f"[{_STATUS.get(status, status)}] {cat}: {msg}")
+
+
+_CALLBACKS = fmi2CallbackFunctions()
+_CALLBACKS.logger = fmi2CallbackLoggerTYPE(_dispatch)
+_CALLBACKS.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+_CALLBACKS.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+addLoggerProxy(byref(_CALLBACKS))
 _extracted: dict[str, tuple[str, object]] = {}
 _lock = threading.Lock()
 
@@ -99,12 +133,6 @@ def run_one(spec: dict, fmu_name: str) -> dict:
     FMU's log messages. Returns the row of the results table (and, with
     `series` asked for, the time series under the key "_series")."""
     logs = []
-
-    def logger(env, instance, status, category, message):
-        cat = category.decode(errors="replace") if category else ""
-        msg = message.decode(errors="replace") if message else ""
-        logs.append(f"[{_STATUS.get(status, status)}] {cat}: {msg}")
-
     row = {"index": spec["index"], "key": spec["key"], **spec["point"]}
     t_cpu, t_wall = time.thread_time(), time.perf_counter()
     status, message, res = "ok", "", None
@@ -121,7 +149,10 @@ def run_one(spec: dict, fmu_name: str) -> dict:
             last[0] = t
             return moved
 
-        fmu = instantiate_fmu(unzipdir, md, logger=logger)
+        fmu = FMU2Slave(guid=md.guid, unzipDirectory=unzipdir,
+                        modelIdentifier=md.coSimulation.modelIdentifier, instanceName="run")
+        fmu.instantiate(callbacks=_CALLBACKS)
+        _SINK.logs = logs
         try:
             # Errors are always logged; warnings and discards (the reason a
             # step failed) only in these categories.
@@ -135,6 +166,7 @@ def run_one(spec: dict, fmu_name: str) -> dict:
                                step_finished=step_finished)
         finally:
             fmu.freeInstance()
+            _SINK.logs = None
         if not np.isclose(res["time"][-1], spec["stop_time"], rtol=0, atol=1e-9):
             status = "failed"
             message = f"stopped at t = {res['time'][-1]:.9g} s of {spec['stop_time']:g} s"
