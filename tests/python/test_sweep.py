@@ -193,6 +193,29 @@ def test_discarded_step_is_a_failed_row(fmu_path, tmp_path):
     assert np.isnan(row["mean(pulley[3].slip)"])
 
 
+def test_fmu_logging_after_an_in_process_run_reaches_a_live_logger(fmu_path, tmp_path):
+    """FMPy's native logger proxy calls one process-wide Python callback, the last registered. A run of the
+    study in this process must leave it pointing at a live one: afterwards an FMU with FMPy's default
+    callbacks that logs at initialisation (the accessory set warns about its mesh) must run, not call
+    freed memory (a segmentation fault that ends this process, as it did when the runner passed a per-run
+    logger to FMPy's instantiate_fmu). The run's own messages still land in its row."""
+    import gc
+
+    from beltdrive.runner import run_one, sha256_file
+    path = tmp_path / "study.toml"
+    path.write_text(study_text(fmu_path, points=[(450.0, 0.0143239, 160)], series=False))
+    spec = S.load(path).runs(sha256_file(fmu_path))[0]
+    row = run_one(spec, fmu_path)
+    assert "belt.nBodies" in row["message"], row["message"]
+    gc.collect()
+    start = {p.name: {"Real": float, "Integer": int,
+                      "Boolean": lambda s: s.strip() in ("true", "1")}[p.type](p.value)
+             for p in read_ssv(str(SSV)).parameters}
+    res = simulate_fmu(fmu_path, start_values=start, stop_time=0.002, output_interval=1e-3,
+                       output=["belt.minTension"])
+    assert res["time"][-1] == pytest.approx(0.002)
+
+
 def test_interrupted_study_resumes_without_rerunning(fmu_path, tmp_path):
     points = [(300.0 + 25 * k, 0.0143239, 160) for k in range(10)]
     path = tmp_path / "study.toml"
