@@ -245,22 +245,25 @@ fn load_run_with(method: Method, change: impl Fn(&mut DriveParams)) -> LoadRun {
 /// its pivot dissipation, and both integrators give one drive.
 #[test]
 fn energy_balance_and_both_integrators() {
-    let rk = load_run(Method::Rkf45);
-    let ros = load_run(Method::Rosenbrock);
-    for (name, r) in [("RKF45", &rk), ("Rosenbrock", &ros)] {
+    balanced_and_alike(&load_run(Method::Rkf45), &load_run(Method::Rosenbrock));
+}
+
+/// The checks of a load run with both integrators: W_in = dK + dV + E_diss
+/// to 1e-3 of the work in (both integrators at rtol 1e-5: the accumulated
+/// energies carry the local errors), and one model: speeds and span
+/// tensions within 0.5 % (the figure).
+fn balanced_and_alike(rk: &LoadRun, ros: &LoadRun) {
+    for (name, r) in [("RKF45", rk), ("Rosenbrock", ros)] {
         println!(
             "{name}: omega {:.4?}, spans {:.2?}, arm {:.5} rad, energy residual {:.2e}",
             r.omega, r.spans, r.arm_angle, r.energy_residual
         );
-        // W_in = dK + dV + E_diss to 1e-3 of the work in (both integrators
-        // at rtol 1e-5: the accumulated energies carry the local errors)
         assert!(
             r.energy_residual.abs() < 1e-3,
             "{name}: {}",
             r.energy_residual
         );
     }
-    // one model: speeds and span tensions within 0.5 % (the figure)
     for (a, b) in rk
         .omega
         .iter()
@@ -813,26 +816,8 @@ fn hub_load_friction_energy_balance_and_both_integrators() {
         arm.hub_friction = 0.3;
         arm.friction_radius = 0.02;
     };
-    let rk = load_run_with(Method::Rkf45, hub);
-    let ros = load_run_with(Method::Rosenbrock, hub);
-    for (name, r) in [("RKF45", &rk), ("Rosenbrock", &ros)] {
-        println!(
-            "{name}: omega {:.4?}, spans {:.2?}, arm {:.5} rad, energy residual {:.2e}",
-            r.omega, r.spans, r.arm_angle, r.energy_residual
-        );
-        // as `energy_balance_and_both_integrators`: 1e-3 of the work in
-        assert!(
-            r.energy_residual.abs() < 1e-3,
-            "{name}: {}",
-            r.energy_residual
-        );
-    }
-    for (a, b) in rk
-        .omega
-        .iter()
-        .zip(&ros.omega)
-        .chain(rk.spans.iter().zip(&ros.spans))
-    {
-        assert!((a / b - 1.0).abs() < 5e-3, "RKF45 {a} vs Rosenbrock {b}");
-    }
+    balanced_and_alike(
+        &load_run_with(Method::Rkf45, hub),
+        &load_run_with(Method::Rosenbrock, hub),
+    );
 }
