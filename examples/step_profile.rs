@@ -5,7 +5,10 @@
 //! angles, velocities, spins, creep states, pulleys, decouplers, tensioner
 //! arms), for a body where it lies (on a wrap, in a free span, or within a
 //! body or two of a landing or leaving point), and the steps the stiff
-//! method's energy check rejected.
+//! method's energy check rejected; on drives that have them, what the
+//! tensioner arms (their rate against the pivot friction's band) and the
+//! decouplers (clutch engaged, in its band or overrunning) do over the
+//! accepted steps.
 //!
 //! `cargo run --profile ci --example step_profile -- [DRIVE RPM METHOD ...]`
 //! with DRIVE one of `5pk` (the FMU's default drive), `acc4`
@@ -26,6 +29,7 @@ mod ssv;
 mod accessory;
 
 use belt_drive::drive::Integrator;
+use belt_drive::model::elements::ARM_FRICTION_RATE;
 use belt_drive::model::params::Method;
 use belt_drive::model::state::{bodies_len, body_component, BodyComponent};
 use belt_drive::model::system::{BeltSystem, Workspace};
@@ -134,6 +138,81 @@ struct Profile {
     /// Accepted steps whose energy error exceeds the norm (the energy check
     /// sets the next step).
     energy_limited: u64,
+}
+
+/// What the tensioner arms and decouplers do over the accepted steps of the
+/// observed run: how often an arm's rate lies inside its pivot friction's
+/// band |alpha'| < w_c ([`ARM_FRICTION_RATE`]), its mean and rms rate and how
+/// often it changes sign (each a reversal of the friction torque), and
+/// whether a decoupler's clutch is engaged beyond its band, in it or
+/// overrunning.
+#[derive(Default)]
+struct Hardware {
+    arm_steps: u64,
+    arm_in_band: u64,
+    arm_sum: f64,
+    arm_sum2: f64,
+    arm_sign_changes: u64,
+    arm_last: Vec<f64>,
+    dec_steps: u64,
+    dec_engaged: u64,
+    dec_overrunning: u64,
+}
+
+impl Hardware {
+    fn record(&mut self, sys: &BeltSystem, y: &[f64]) {
+        let s = sys.state_layout();
+        let pulleys = sys.pulleys();
+        self.arm_last.resize(pulleys.len(), 0.0);
+        for (j, pc) in pulleys.iter().enumerate() {
+            if pc.arm.is_some() {
+                let w = y[s.arm(j).rate];
+                self.arm_steps += 1;
+                self.arm_in_band += u64::from(w.abs() < ARM_FRICTION_RATE);
+                self.arm_sum += w;
+                self.arm_sum2 += w * w;
+                self.arm_sign_changes += u64::from(w * self.arm_last[j] < 0.0);
+                self.arm_last[j] = w;
+            }
+            if let Some(dc) = &pc.decoupler {
+                let d = s.decoupler(j);
+                let w = dc.relative_rate(y[s.pulley(j).speed], y[d.rotor_speed]);
+                let law = dc.law(y[d.twist], w);
+                self.dec_steps += 1;
+                // beyond the band the clutch's slope is 1, overrunning it
+                // carries nothing
+                self.dec_engaged += u64::from(law.rate_d_rate == 1.0);
+                self.dec_overrunning += u64::from(law.torque == 0.0);
+            }
+        }
+    }
+
+    fn print(&self) {
+        if self.arm_steps > 0 {
+            let n = self.arm_steps as f64;
+            println!(
+                "  tensioner arm over the accepted steps: rate inside the pivot friction's band \
+                 (|rate| < {ARM_FRICTION_RATE} rad/s) on {:.1} %, mean {:.2e} rad/s, rms {:.2e} rad/s, \
+                 {:.0} sign changes per simulated s",
+                100.0 * self.arm_in_band as f64 / n,
+                self.arm_sum / n,
+                (self.arm_sum2 / n).sqrt(),
+                self.arm_sign_changes as f64 / WINDOW
+            );
+        }
+        if self.dec_steps > 0 {
+            let n = self.dec_steps as f64;
+            let overrunning = self.dec_overrunning as f64 / n;
+            let engaged = self.dec_engaged as f64 / n;
+            println!(
+                "  decoupler over the accepted steps: clutch engaged beyond its band {:.1} %, in the band \
+                 {:.1} %, overrunning {:.1} %",
+                100.0 * engaged,
+                100.0 * (1.0 - engaged - overrunning),
+                100.0 * overrunning
+            );
+        }
+    }
 }
 
 /// Bodies whose contact changes between states `a` and `b`.
@@ -364,6 +443,7 @@ fn run(name: &str, rpm: f64, method: Method, o: Options) {
     let mut y = d.state().to_vec();
     let mut ws = Workspace::new();
     let mut prof = Profile::default();
+    let mut hw = Hardware::default();
     let mut terms = Terms::default();
     let mut ws_ref = Workspace::new();
     let mut comps = vec![0.0; y.len()];
@@ -385,6 +465,9 @@ fn run(name: &str, rpm: f64, method: Method, o: Options) {
                     &mut |m, tr| {
                         let energy = m.error_components(tr.y, &mut comps, &mut end);
                         prof.record(&sys, &tr, &comps, &end, energy);
+                        if tr.err <= 1.0 {
+                            hw.record(&sys, &end);
+                        }
                         if energy > 1.0 && terms.samples < TERM_SAMPLES {
                             terms.add(&sys, &tr, &end, m.rel_tol, &mut ws_ref);
                         }
@@ -405,6 +488,9 @@ fn run(name: &str, rpm: f64, method: Method, o: Options) {
                     &mut |m, tr| {
                         m.error_components(tr.y, tr.h, &mut comps, &mut end);
                         prof.record(&sys, &tr, &comps, &end, 0.0);
+                        if tr.err <= 1.0 {
+                            hw.record(&sys, &end);
+                        }
                     },
                 )
                 .expect("runs");
@@ -493,6 +579,7 @@ fn run(name: &str, rpm: f64, method: Method, o: Options) {
         "  accepted step sizes [% per decade 1e-8/1e-7/1e-6/1e-5/1e-4/1e-3 s]: {}",
         pct(&prof.h_hist)
     );
+    hw.print();
 }
 
 fn main() {
