@@ -10,15 +10,16 @@
 //! reference's two means of span 3 differ by 0.3 %.
 //!
 //! `cargo run --profile ci --example stiff_accuracy -- DRIVE RPM [ref=<relTol>]
-//! [tols=<relTol>,...] [cache=0]`
+//! [tols=<relTol>,...] [cache=1]`
 //! with DRIVE `5pk` (the FMU's default drive, means over 0.35-0.6 s),
 //! `sixty` (the 60-body drive of tests/defaults.rs, 0.3-0.5 s), `acc4` or
 //! `tens` (the accessory sets at crank speed RPM with the loads held at their
 //! idle torques, examples/common/accessory.rs, the crank ramp shortened to
 //! 0.2 s as in tests/defaults.rs, 0.4-0.6 s). RPM is ignored for `5pk` and
-//! `sixty`. `tols`: the stiff method's tolerances (1e-4). The reference is
-//! kept in /tmp (`stiff_accuracy_<drive>_<rpm>_<tol>`) and read from there by
-//! the next run unless `cache=0` (delete it after a change to the model).
+//! `sixty`. `tols`: the stiff method's tolerances (1e-4). With `cache=1` the
+//! reference is kept in /tmp (`stiff_accuracy_<drive>_<rpm>_<tol>`) and read
+//! from there by the next run with `cache=1` (for variants of the stiff
+//! method on one model; delete it after a change to the model).
 
 #[path = "common/ssv.rs"]
 mod ssv;
@@ -139,12 +140,12 @@ fn main() {
         std::env::args().skip(1).partition(|a| a.contains('='));
     let mut ref_tol = 1e-7;
     let mut tols = vec![1e-4];
-    let mut cached = true;
+    let mut cached = false;
     for o in &opts {
         let (k, v) = o.split_once('=').expect("key=value");
         match k {
             "ref" => ref_tol = v.parse().expect("ref"),
-            "cache" => cached = v != "0",
+            "cache" => cached = v == "1",
             "tols" => tols = v.split(',').map(|x| x.parse().expect("tols")).collect(),
             _ => panic!("option {k}"),
         }
@@ -182,16 +183,18 @@ fn main() {
                     .collect::<Vec<_>>()
                     .join(" ")
             };
-            std::fs::write(
-                &cache,
-                format!(
-                    "{}\n{}\n{}\n",
-                    line(&r.omega),
-                    line(&r.tension),
-                    line(&r.interval)
-                ),
-            )
-            .expect("cache");
+            if cached {
+                std::fs::write(
+                    &cache,
+                    format!(
+                        "{}\n{}\n{}\n",
+                        line(&r.omega),
+                        line(&r.tension),
+                        line(&r.interval)
+                    ),
+                )
+                .expect("cache");
+            }
             r
         }
     };
