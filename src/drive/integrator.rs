@@ -10,7 +10,9 @@ use crate::solver::jacobian::Jacobian;
 use crate::solver::knobs::TUNING;
 use crate::solver::rkf45::Rkf45;
 use crate::solver::rosenbrock::{EnergyBalance, Rosenbrock, StiffSystem};
-use crate::solver::step_control::{OdeSystem, Stats, StepControl, StepFailure, Trial};
+use crate::solver::step_control::{
+    self, EmbeddedMethod, Landing, OdeSystem, Stats, StepControl, StepFailure, Trial,
+};
 
 impl OdeSystem for BeltSystem {
     type Workspace = Workspace;
@@ -161,6 +163,70 @@ impl Integrator {
         }
     }
 
+    /// Integrates from `*t` to the first accepted step's end at or past
+    /// `t_end` ([`step_control::advance_past`]); `step_start` as in
+    /// [`Self::advance`].
+    pub(super) fn advance_past(
+        &mut self,
+        sys: &BeltSystem,
+        ws: &mut Workspace,
+        t: &mut f64,
+        y: &mut [f64],
+        t_end: f64,
+        step_start: &mut dyn FnMut(f64, &[f64]),
+    ) -> Result<Landing, StepFailure> {
+        fn observer<M>(step_start: &mut dyn FnMut(f64, &[f64])) -> impl FnMut(&M, Trial) + '_ {
+            move |_, tr: Trial| {
+                if tr.err <= 1.0 {
+                    step_start(tr.t, tr.y);
+                }
+            }
+        }
+        match self {
+            Self::Rkf45(i) => {
+                step_control::advance_past(i, sys, ws, t, y, t_end, &mut observer(step_start))
+            }
+            Self::Rosenbrock(i) => {
+                step_control::advance_past(i, sys, ws, t, y, t_end, &mut observer(step_start))
+            }
+        }
+    }
+
+    /// Retakes the step that passed a communication point clipped to
+    /// `t_target` ([`step_control::retake_clipped`]) from (`*t`, `y`), its
+    /// start, with the step size `h` it had there. Ok(false): the
+    /// method's checkpoint was gone, the retake started afresh.
+    pub(super) fn retake_clipped(
+        &mut self,
+        sys: &BeltSystem,
+        ws: &mut Workspace,
+        t: &mut f64,
+        y: &mut [f64],
+        h: f64,
+        t_target: f64,
+    ) -> Result<bool, StepFailure> {
+        match self {
+            Self::Rkf45(i) => {
+                step_control::retake_clipped(i, sys, ws, t, y, h, t_target, &mut |_: &_, _| {})
+            }
+            Self::Rosenbrock(i) => {
+                step_control::retake_clipped(i, sys, ws, t, y, h, t_target, &mut |_: &_, _| {})
+            }
+        }
+    }
+
+    /// f at the start of the last accepted step (until the next trial) and
+    /// at its end `t_end`, where the method has them.
+    pub(super) fn step_derivatives(&self, t_end: f64) -> (Option<&[f64]>, Option<&[f64]>) {
+        match self {
+            Self::Rkf45(i) => (
+                EmbeddedMethod::<BeltSystem>::start_derivative(i),
+                EmbeddedMethod::<BeltSystem>::end_derivative(i, t_end),
+            ),
+            Self::Rosenbrock(i) => (i.start_derivative(), i.end_derivative(t_end)),
+        }
+    }
+
     /// The state or the inputs were changed between steps: the stiff
     /// method's kept first stage and energy balance are stale.
     pub(super) fn state_changed(&mut self) {
@@ -204,6 +270,23 @@ impl Integrator {
             Self::Rosenbrock(i) => i.save(sys, point, &mut out),
         }
         out
+    }
+
+    /// The method's checkpoint of the step taken past the communication
+    /// point, for a saved state.
+    pub(super) fn save_checkpoint(&self, sys: &BeltSystem, out: &mut Vec<f64>) {
+        match self {
+            Self::Rkf45(i) => i.save_checkpoint(out),
+            Self::Rosenbrock(i) => i.save_checkpoint(sys, out),
+        }
+    }
+
+    /// Reads what [`save_checkpoint`](Self::save_checkpoint) wrote.
+    pub(super) fn load_checkpoint(&mut self, sys: &BeltSystem, src: &[f64]) -> bool {
+        match self {
+            Self::Rkf45(i) => i.load_checkpoint(src),
+            Self::Rosenbrock(i) => i.load_checkpoint(sys, src),
+        }
     }
 
     /// Restores step size, counters and what [`save`](Self::save) wrote.

@@ -22,9 +22,93 @@ use crate::interval::{IntervalAccumulator, INTERVAL_DATA};
 use crate::model::layout::Layout;
 use crate::model::param_id::Message;
 use crate::model::params::{DriveParams, ParamError, MAX_PULLEYS, PROBE_AUTO};
-use crate::model::state;
+use crate::model::state::{self, BodyIndex};
 use crate::model::system::{BeltSystem, Inputs, Workspace, IMPULSES};
-use crate::solver::step_control::{Stats, StepFailure};
+use crate::solver::step_control::{Landing, Stats, StepFailure};
+
+/// The integrator's own time and state when it has stepped past the
+/// communication point ([`Drive::advance`]): its last step, from
+/// (`t_a`, `y_a`) to (`t_b`, `y_b`), holds the drive's time, and the
+/// drive's state there is that step's cubic Hermite interpolant.
+#[derive(Clone, Debug, PartialEq)]
+struct Ahead {
+    /// The integrator is past the drive's time (else `t_b`, `y_b` are
+    /// scratch).
+    active: bool,
+    t_a: f64,
+    /// The step size the step from `t_a` was tried with first.
+    h_a: f64,
+    y_a: Vec<f64>,
+    /// f(t_a, y_a), f(t_b, y_b).
+    f_a: Vec<f64>,
+    t_b: f64,
+    y_b: Vec<f64>,
+    f_b: Vec<f64>,
+    /// Belt bodies (they come first in the state).
+    n_bodies: usize,
+}
+
+impl Ahead {
+    fn new(dim: usize, n_bodies: usize) -> Self {
+        Self {
+            active: false,
+            t_a: f64::NAN,
+            h_a: f64::NAN,
+            y_a: vec![0.0; dim],
+            f_a: vec![0.0; dim],
+            t_b: f64::NAN,
+            y_b: vec![0.0; dim],
+            f_b: vec![0.0; dim],
+            n_bodies,
+        }
+    }
+
+    /// The state at time `t` in [t_a, t_b]: the step's cubic Hermite
+    /// interpolant (Hairer, Norsett & Wanner I, II.6: third order, through
+    /// both ends with their slopes) for every state but the belt bodies'
+    /// velocities, spins and creep displacements. Their slopes (the body
+    /// accelerations, the creep rates) carry the belt's stiff modes, which
+    /// the stiff method damps within a step: h f is then far larger than
+    /// the change over the step, and the cubic through them swings by
+    /// thousands of tolerances. A body's velocity and spin are the time
+    /// derivative of its position's and angle's interpolant instead (so the
+    /// bodies move as they are shown to move), its creep is interpolated
+    /// linearly. Measured against the step retaken clipped and against a
+    /// tight reference from the step's start (`examples/dense_output.rs`):
+    /// the belt torques and span tensions at the point are as accurate as
+    /// the clipped step's on the accessory drive, and within 0.3 % of the
+    /// belt torque on the 5PK drive.
+    fn interpolate(&self, t: f64, out: &mut [f64]) {
+        let h = self.t_b - self.t_a;
+        let s = (t - self.t_a) / h;
+        // y = y_a + s d + c_d d + c_a f_a + c_b f_b, d = y_b - y_a
+        let (c_d, c_a, c_b) = (
+            s * (s - 1.0) * (1.0 - 2.0 * s),
+            s * (s - 1.0) * (s - 1.0) * h,
+            s * s * (s - 1.0) * h,
+        );
+        for (i, o) in out.iter_mut().enumerate() {
+            let (ya, yb) = (self.y_a[i], self.y_b[i]);
+            let d = yb - ya;
+            *o = ya + s * d + c_d * d + c_a * self.f_a[i] + c_b * self.f_b[i];
+        }
+        // its time derivative: d / h (1 + c_d') + c_a' / h f_a + c_b' / h f_b
+        let (e_d, e_a, e_b) = (
+            6.0 * s * (1.0 - s) / h,
+            (s - 1.0) * (3.0 * s - 1.0),
+            s * (3.0 * s - 2.0),
+        );
+        for i in 0..self.n_bodies {
+            let b = BodyIndex::of(i);
+            for (q, v) in b.coordinates().into_iter().zip(b.rates()) {
+                let d = self.y_b[q] - self.y_a[q];
+                out[v] = e_d * d + e_a * self.f_a[q] + e_b * self.f_b[q];
+            }
+            let z = b.creep;
+            out[z] = self.y_a[z] + s * (self.y_b[z] - self.y_a[z]);
+        }
+    }
+}
 
 /// The window the mean outputs average over: the last call of
 /// [`Drive::advance`] (in the FMU, the last communication step). The
@@ -60,6 +144,13 @@ pub struct Drive {
     probe: usize,
     /// Means and extrema over the last call of [`Drive::advance`].
     interval: IntervalAccumulator,
+    /// The integrator's step past the drive's time, if it took one.
+    ahead: Ahead,
+    /// Whether [`Drive::advance`] may step past its target time.
+    look_ahead: bool,
+    /// The inputs changed at the drive's time: the next call of
+    /// [`Drive::advance`] clips its last step (they may change again).
+    clip_next: bool,
 }
 
 impl Drive {
@@ -123,6 +214,9 @@ impl Drive {
             warnings,
             probe,
             interval,
+            ahead: Ahead::new(dim, params.belt.n_bodies),
+            look_ahead: true,
+            clip_next: false,
         };
         drive.interval.begin(&drive.sys, t0, &drive.y);
         drive.set_inputs(Inputs {
@@ -188,6 +282,11 @@ impl Drive {
 
     /// Sets the inputs held from now on (`inputs.t0` is set to the current
     /// time). A speed-driven pulley's speed jumps to its new prescription.
+    ///
+    /// Inputs with the values held (to the bit, no rate before or after)
+    /// leave a step the integrator took past the current time valid; any
+    /// other change brings the integrator back to the current time first
+    /// ([`Self::materialise`]) and clips the next call's last step.
     pub fn set_inputs(&mut self, mut inputs: Inputs) {
         inputs.t0 = self.t;
         // the right-hand side stays the same to the bit where the values
@@ -201,6 +300,13 @@ impl Drive {
             && held(&inputs)
             && old.torque.map(f64::to_bits) == inputs.torque.map(f64::to_bits)
             && old.omega_ref.map(f64::to_bits) == inputs.omega_ref.map(f64::to_bits);
+        if same && self.ahead.active {
+            return;
+        }
+        if !same {
+            self.materialise();
+            self.clip_next = true;
+        }
         self.sys.inputs = inputs;
         for j in 0..self.sys.np {
             if self.sys.pulleys[j].speed_driven {
@@ -215,14 +321,35 @@ impl Drive {
         }
     }
 
-    /// Integrates to exactly `t_end`; the mean outputs then average over
-    /// this call ([`Window`]). On failure the drive stays at its last good
-    /// state (the time, state and window of the call).
+    /// Advances the drive to exactly `t_end`; the mean outputs then
+    /// average over this call ([`Window`]). On failure the drive stays at
+    /// its last good state (the time, state and window of the call).
+    ///
+    /// The integrator steps past `t_end` unless the inputs changed at the
+    /// drive's time (or [`Self::set_look_ahead`] is off): its last step
+    /// ends at or after `t_end`, the drive's state at `t_end` is that
+    /// step's cubic Hermite interpolant, and the next call continues from
+    /// the step's end, so that the steps do not depend on the calls' end
+    /// times. The interval outputs take the interpolated ends of the
+    /// partial steps; the impulses are interpolated like every state.
     pub fn advance(&mut self, t_end: f64) -> Result<(), StepFailure> {
         let q = self.sys.controlled_dim();
+        let dim = self.y.len();
         let mut impulses = [0.0; IMPULSES * MAX_PULLEYS];
-        let kept = &mut impulses[..self.y.len() - q];
+        let kept = &mut impulses[..dim - q];
         kept.copy_from_slice(&self.y[q..]);
+        // the impulses count from the window's start: the integrator's are
+        // moved by their (interpolated) values there
+        let mut kept_ahead = [[0.0; IMPULSES * MAX_PULLEYS]; 2];
+        let a = &mut self.ahead;
+        if a.active {
+            kept_ahead[0][..dim - q].copy_from_slice(&a.y_a[q..]);
+            kept_ahead[1][..dim - q].copy_from_slice(&a.y_b[q..]);
+            for k in q..dim {
+                a.y_a[k] -= self.y[k];
+                a.y_b[k] -= self.y[k];
+            }
+        }
         self.y[q..].fill(0.0);
         let mut omega = [0.0; MAX_PULLEYS];
         for (j, w) in omega.iter_mut().enumerate().take(self.sys.np) {
@@ -231,26 +358,137 @@ impl Drive {
         let start = self.t;
         let before = self.interval.clone();
         self.interval.begin(&self.sys, self.t, &self.y);
-        let (sys, interval) = (&self.sys, &mut self.interval);
-        let result = self.integrator.advance(
-            sys,
-            &mut self.ws,
-            &mut self.t,
-            &mut self.y,
-            t_end,
-            &mut |t, y| interval.step_end(sys, t, y),
-        );
-        if result.is_err() {
-            self.y[q..].copy_from_slice(kept);
-            self.interval = before;
-            return result;
+        let a = &mut self.ahead;
+        // a target within the step taken past: no step
+        let within = a.active && t_end <= a.t_b;
+        let result = if within {
+            Ok(Landing::Past)
+        } else {
+            if !a.active {
+                a.t_b = self.t;
+                a.y_b.copy_from_slice(&self.y);
+            }
+            let (sys, interval) = (&self.sys, &mut self.interval);
+            let step_start = &mut |t, y: &[f64]| interval.step_end(sys, t, y);
+            if self.look_ahead && !self.clip_next {
+                self.integrator.advance_past(
+                    sys,
+                    &mut self.ws,
+                    &mut a.t_b,
+                    &mut a.y_b,
+                    t_end,
+                    step_start,
+                )
+            } else {
+                self.integrator
+                    .advance(sys, &mut self.ws, &mut a.t_b, &mut a.y_b, t_end, step_start)
+                    .map(|()| Landing::OnTarget)
+            }
+        };
+        let landing = match result {
+            Ok(l) => l,
+            Err(e) => {
+                let a = &mut self.ahead;
+                if a.active {
+                    a.y_a[q..].copy_from_slice(&kept_ahead[0][..dim - q]);
+                    a.y_b[q..].copy_from_slice(&kept_ahead[1][..dim - q]);
+                }
+                self.y[q..].copy_from_slice(kept);
+                self.interval = before;
+                return Err(e);
+            }
+        };
+        let a = &mut self.ahead;
+        match landing {
+            Landing::OnTarget => {
+                self.y.copy_from_slice(&a.y_b);
+                a.active = false;
+            }
+            Landing::Past => {
+                if !within {
+                    let c = self.integrator.control();
+                    a.t_a = c.straddle_t;
+                    a.h_a = c.straddle_h;
+                    a.y_a.copy_from_slice(&c.straddle_y);
+                    let (f_a, f_b) = self.integrator.step_derivatives(a.t_b);
+                    a.f_a
+                        .copy_from_slice(f_a.expect("both methods keep the first stage"));
+                    match f_b {
+                        Some(f) => a.f_b.copy_from_slice(f),
+                        None => {
+                            use crate::solver::step_control::OdeSystem;
+                            OdeSystem::rhs(&self.sys, &mut self.ws, a.t_b, &a.y_b, &mut a.f_b);
+                        }
+                    }
+                    a.active = true;
+                }
+                a.interpolate(t_end, &mut self.y);
+            }
         }
+        self.t = t_end;
+        self.clip_next = false;
         self.interval.step_end(&self.sys, self.t, &self.y);
         self.window.start = start;
         for (j, w) in omega.iter().enumerate().take(self.sys.np) {
             self.window.omega_change[j] = self.sys.pulley_speed(j, self.t, &self.y) - w;
         }
-        result
+        Ok(())
+    }
+
+    /// Brings the integrator back to the drive's time if it stepped past
+    /// it: the step it took past is taken again from its start, clipped to
+    /// the drive's time (with the method as it was at that start, the same
+    /// bits as a call that clipped it in the first place). The drive's
+    /// state becomes that step's end (its impulses, the last window's, are
+    /// kept). Should the retake fail, the integrator continues from the
+    /// interpolated state.
+    pub fn materialise(&mut self) {
+        let a = &mut self.ahead;
+        if !a.active {
+            return;
+        }
+        a.active = false;
+        let mut t = a.t_a;
+        a.y_b.copy_from_slice(&a.y_a);
+        let q = self.sys.controlled_dim();
+        match self.integrator.retake_clipped(
+            &self.sys,
+            &mut self.ws,
+            &mut t,
+            &mut a.y_b,
+            a.h_a,
+            self.t,
+        ) {
+            Ok(_) => self.y[..q].copy_from_slice(&a.y_b[..q]),
+            Err(_) => self.integrator.state_changed(),
+        }
+    }
+
+    /// Whether [`Self::advance`] may step past its target time (on by
+    /// default); switching it off brings the integrator back first.
+    pub fn set_look_ahead(&mut self, on: bool) {
+        if !on {
+            self.materialise();
+        }
+        self.look_ahead = on;
+    }
+
+    /// The start (time, state) of the integrator's step past the drive's
+    /// time, if it took one (diagnostics: `examples/dense_output.rs`).
+    pub fn step_past(&self) -> Option<(f64, &[f64])> {
+        self.ahead
+            .active
+            .then_some((self.ahead.t_a, &self.ahead.y_a[..]))
+    }
+
+    /// The integrator's own time: the drive's, or the end of the step it
+    /// took past it.
+    pub fn integrator_time(&self) -> f64 {
+        if self.ahead.active {
+            self.ahead.t_b
+        } else {
+            self.t
+        }
     }
 
     /// The window the mean outputs average over.
@@ -263,8 +501,12 @@ impl Drive {
     /// point only).
     fn point(&self) -> Vec<f64> {
         let i = &self.sys.inputs;
-        let mut p = vec![self.t, i.t0];
-        p.extend_from_slice(&self.y);
+        let mut p = vec![self.integrator_time(), i.t0];
+        p.extend_from_slice(if self.ahead.active {
+            &self.ahead.y_b
+        } else {
+            &self.y
+        });
         for a in [i.torque, i.torque_rate, i.omega_ref, i.omega_ref_rate] {
             p.extend_from_slice(&a);
         }
@@ -272,10 +514,70 @@ impl Drive {
     }
 
     /// Integrator data for a saved state, see [`restore`](Self::restore).
+    /// First the look-ahead: whether the next call clips, whether the
+    /// integrator is past the drive's time, and if so its step past it
+    /// (start time, step size, end time, the method's checkpoint after its
+    /// length, then y_a, f_a, y_b, f_b).
     pub fn integrator_data(&self) -> Vec<f64> {
-        let mut out = self.integrator.save(&self.sys, &self.point());
+        let a = &self.ahead;
+        let flag = |b: bool| f64::from(u8::from(b));
+        let mut out = vec![flag(self.clip_next), flag(a.active)];
+        if a.active {
+            out.extend_from_slice(&[a.t_a, a.h_a, a.t_b]);
+            let mut ck = Vec::new();
+            self.integrator.save_checkpoint(&self.sys, &mut ck);
+            out.push(ck.len() as f64);
+            out.extend_from_slice(&ck);
+            for v in [&a.y_a, &a.f_a, &a.y_b, &a.f_b] {
+                out.extend_from_slice(v);
+            }
+        }
+        out.extend(self.integrator.save(&self.sys, &self.point()));
         self.interval.save(&mut out);
         out
+    }
+
+    /// Reads the look-ahead [`integrator_data`](Self::integrator_data)
+    /// starts with; the rest of the data, or None if it does not fit.
+    fn load_ahead<'a>(&mut self, data: &'a [f64]) -> Option<&'a [f64]> {
+        let flag = |x: f64| (x == 0.0 || x == 1.0).then_some(x == 1.0);
+        let [clip, active, rest @ ..] = data else {
+            return None;
+        };
+        self.clip_next = flag(*clip)?;
+        if !flag(*active)? {
+            self.ahead.active = false;
+            return Some(rest);
+        }
+        let [t_a, h_a, t_b, n, rest @ ..] = rest else {
+            return None;
+        };
+        let times_ok = t_a.is_finite() && t_b.is_finite() && *t_a <= self.t && self.t <= *t_b;
+        if !(times_ok && h_a.is_finite() && *h_a > 0.0) || n.fract() != 0.0 || *n < 0.0 {
+            return None;
+        }
+        let n = *n as usize;
+        let dim = self.y.len();
+        if rest.len() < n + 4 * dim {
+            return None;
+        }
+        let (ck, rest) = rest.split_at(n);
+        if !self.integrator.load_checkpoint(&self.sys, ck) {
+            return None;
+        }
+        let (v, rest) = rest.split_at(4 * dim);
+        if !v.iter().all(|x| x.is_finite()) {
+            return None;
+        }
+        let a = &mut self.ahead;
+        for (dst, src) in [&mut a.y_a, &mut a.f_a, &mut a.y_b, &mut a.f_b]
+            .into_iter()
+            .zip(v.chunks_exact(dim))
+        {
+            dst.copy_from_slice(src);
+        }
+        (a.t_a, a.h_a, a.t_b, a.active) = (*t_a, *h_a, *t_b, true);
+        Some(rest)
     }
 
     /// Replaces time, state, window, inputs and integrator data (restoring
@@ -306,6 +608,9 @@ impl Drive {
         self.window = window;
         self.y.copy_from_slice(y);
         self.sys.inputs = inputs;
+        let Some(integrator_data) = self.load_ahead(integrator_data) else {
+            return false;
+        };
         self.integrator
             .restore(&self.sys, &self.point(), h, stats, integrator_data)
     }

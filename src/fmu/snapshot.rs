@@ -16,8 +16,10 @@ use crate::solver::rkf45::Stats;
 /// right-hand side and energy balance) in the integrator data;
 /// 6: the interval outputs after the integrator data;
 /// 7: eight pulley slots and the tensioner arms' end stops among the
-/// parameters.
-pub(super) const VERSION: u32 = 7;
+/// parameters;
+/// 8: the integrator's step past the communication point (look-ahead) at
+/// the start of the integrator data.
+pub(super) const VERSION: u32 = 8;
 
 struct Writer<'a>(&'a mut Vec<u8>);
 impl Writer<'_> {
@@ -251,15 +253,22 @@ mod tests {
         let [unbuilt, rkf45, stiff] = [None, Some(1), Some(2)].map(layout);
         // version 6: the interval outputs at the end of the integrator
         // data; version 7: eight pulley slots and the arms' stops
-        assert_eq!((VERSION, unbuilt, rkf45), (7, 308, 4276));
+        // version 8: the look-ahead first in the integrator data: two
+        // flags, and after these 5 ms the step taken past the last point
+        // (its start, step size and end, the checkpoint's length and
+        // RKF45's 3 numbers, y_a, f_a, y_b, f_b: 4 * 434): 16 + 8 * 1743
+        // bytes more than version 7's 4276
+        assert_eq!((VERSION, unbuilt, rkf45), (8, 308, 18236));
         // the stiff method's data hold the first stage kept from the last
         // step's end (marker, time, the point's fingerprint in 2, the 434
         // right-hand-side values, the energy balance's 3: 441 numbers) and
         // its Jacobian while it is kept (here after 5 ms) and not after a
         // rejected step: 16 + 8 * 441 bytes more than RKF45's without it
-        // (its per-pulley columns for the drive's own pulleys only)
+        // (its per-pulley columns for the drive's own pulleys only); the
+        // look-ahead as RKF45's with the stiff method's 4-number checkpoint
+        // (16 + 8 * 1744 bytes; a Jacobian parked there would add its own)
         assert!(
-            [7820, 132_244].contains(&stiff),
+            [21_788, 146_212].contains(&stiff),
             "the stiff method's layout changed: {stiff} bytes"
         );
     }

@@ -76,6 +76,10 @@ pub struct Rkf45 {
     /// The PI controller's exponents and target error
     /// ([`TUNING`](crate::solver::knobs::TUNING)'s `rkf45_*`).
     pub pi: PiControl,
+    /// The controller's memory at the start of the step that may pass the
+    /// communication point (its time, `err_accepted`, `after_rejection`),
+    /// for a retake clipped to it ([`EmbeddedMethod::rewind`]).
+    checkpoint: (f64, f64, bool),
 }
 
 /// Exponents and target of the PI step-size controller, see
@@ -124,6 +128,7 @@ impl Rkf45 {
             after_rejection: false,
             err_at_call: 1.0,
             pi: PiControl::DEFAULT,
+            checkpoint: (f64::NAN, 1.0, false),
         }
     }
 
@@ -131,6 +136,28 @@ impl Rkf45 {
     /// controller's error memory.
     pub fn save(&self, out: &mut Vec<f64>) {
         out.push(self.err_accepted);
+    }
+
+    /// The checkpoint of the step that may pass the communication point
+    /// (its time, NaN if none, and the controller's memory there), for a
+    /// saved state.
+    pub fn save_checkpoint(&self, out: &mut Vec<f64>) {
+        let (t, e, r) = self.checkpoint;
+        out.extend_from_slice(&[t, e, f64::from(u8::from(r))]);
+    }
+
+    /// Reads what [`save_checkpoint`](Self::save_checkpoint) wrote; false
+    /// if it does not fit.
+    pub fn load_checkpoint(&mut self, src: &[f64]) -> bool {
+        match *src {
+            [t, e, r]
+                if (e.is_finite() && (ERR_FLOOR..=1.0).contains(&e)) && (r == 0.0 || r == 1.0) =>
+            {
+                self.checkpoint = (t, e, r == 1.0);
+                true
+            }
+            _ => false,
+        }
     }
 
     /// Reads what [`save`](Self::save) wrote; false if it does not fit.
@@ -368,6 +395,30 @@ impl<S: OdeSystem> EmbeddedMethod<S> for Rkf45 {
     fn failed(&mut self) {
         self.err_accepted = self.err_at_call;
         self.after_rejection = false;
+    }
+
+    fn call_start(&mut self) {
+        self.err_at_call = self.err_accepted;
+    }
+
+    fn checkpoint(&mut self, t: f64) {
+        self.checkpoint = (t, self.err_accepted, self.after_rejection);
+    }
+
+    fn rewind(&mut self, t: f64) -> bool {
+        let (at, e, r) = self.checkpoint;
+        if at != t {
+            return false;
+        }
+        (self.err_accepted, self.after_rejection) = (e, r);
+        self.err_at_call = e;
+        true
+    }
+
+    /// The first stage of the last trial (the last accepted step's, until
+    /// the next trial).
+    fn start_derivative(&self) -> Option<&[f64]> {
+        Some(&self.k[0])
     }
 }
 

@@ -104,6 +104,14 @@ pub struct StepControl {
     pub stats: Stats,
     /// State at the start of the current call.
     backup: Vec<f64>,
+    /// Start (time, state, step size) of the step that may pass the
+    /// target time ([`advance_past`]), taken before its first trial; the
+    /// time is NaN after a failed call.
+    pub straddle_t: f64,
+    /// The step size at that start.
+    pub straddle_h: f64,
+    /// The state at that start.
+    pub straddle_y: Vec<f64>,
 }
 
 impl StepControl {
@@ -114,6 +122,9 @@ impl StepControl {
             max_steps,
             stats: Stats::default(),
             backup: vec![0.0; dim],
+            straddle_t: f64::NAN,
+            straddle_h: f64::NAN,
+            straddle_y: vec![0.0; dim],
         }
     }
 }
@@ -141,6 +152,31 @@ pub trait EmbeddedMethod<S: OdeSystem + ?Sized> {
     fn rejected(&mut self) {}
     /// The call failed and the state was restored.
     fn failed(&mut self) {}
+    /// A call of the driver starts (the methods' own `advance` do this
+    /// too).
+    fn call_start(&mut self) {}
+    /// A step from time `t` that may pass the target time is about to be
+    /// tried ([`advance_past`]): keep what a retake of it clipped to the
+    /// target depends on beyond (t, y) and the step size (see
+    /// [`Self::rewind`]).
+    fn checkpoint(&mut self, _t: f64) {}
+    /// Returns to the checkpoint taken at `t`, so a step from there
+    /// proceeds as it would have if it had been clipped to its target from
+    /// the start; false (and the method's kept data forgotten, so the
+    /// retake is still a correct step) if that checkpoint is gone.
+    fn rewind(&mut self, _t: f64) -> bool {
+        false
+    }
+    /// f(t, y) at the start of the last accepted step, while no trial has
+    /// been taken since (for dense output).
+    fn start_derivative(&self) -> Option<&[f64]> {
+        None
+    }
+    /// f(t, y) at the end of the last accepted step (the next step's first
+    /// stage), if the method has it.
+    fn end_derivative(&self, _t: f64) -> Option<&[f64]> {
+        None
+    }
 }
 
 /// The interval the step-count guard is stated per: a call over H may take
@@ -214,13 +250,103 @@ where
     M: EmbeddedMethod<S>,
     O: FnMut(&M, Trial) + ?Sized,
 {
+    landed(advance_landing(
+        method, sys, ws, t, y, t_end, false, observe,
+    ))
+}
+
+/// Where a call of [`advance_past`] ended.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Landing {
+    /// Exactly on the target time.
+    OnTarget,
+    /// Past it: the last step started before the target (at
+    /// `StepControl::straddle_t`, from `StepControl::straddle_y`) and ended
+    /// after it.
+    Past,
+}
+
+fn landed(r: Result<Landing, StepFailure>) -> Result<(), StepFailure> {
+    r.map(|_| ())
+}
+
+/// Like [`advance_observed`], but the last step is not clipped to land on
+/// `t_end`: the integration ends at the first accepted step's end at or
+/// past `t_end` (a step within 1e-12 of it relative is still clipped to it).
+/// The step that may pass `t_end` is checkpointed first
+/// ([`EmbeddedMethod::checkpoint`]; its start in `StepControl::straddle_*`)
+/// so that it can be retaken clipped ([`retake_clipped`]).
+pub fn advance_past<S, M, O>(
+    method: &mut M,
+    sys: &S,
+    ws: &mut S::Workspace,
+    t: &mut f64,
+    y: &mut [f64],
+    t_end: f64,
+    observe: &mut O,
+) -> Result<Landing, StepFailure>
+where
+    S: OdeSystem + ?Sized,
+    M: EmbeddedMethod<S>,
+    O: FnMut(&M, Trial) + ?Sized,
+{
+    advance_landing(method, sys, ws, t, y, t_end, true, observe)
+}
+
+/// Retakes the last step of an [`advance_past`] call that passed its
+/// target, clipped to `t_target` (inside that step): from its start
+/// (`*t`, `y`, set by the caller to the `StepControl::straddle_*` of that
+/// call) with the step size `h` it had there, the method back at its
+/// checkpoint ([`EmbeddedMethod::rewind`]), the integration runs to
+/// exactly `t_target` as [`advance`] would have from there. False in the
+/// result if the checkpoint was gone (the retake is then a correct step
+/// from a fresh start, not the same bits).
+#[allow(clippy::too_many_arguments)]
+pub fn retake_clipped<S, M, O>(
+    method: &mut M,
+    sys: &S,
+    ws: &mut S::Workspace,
+    t: &mut f64,
+    y: &mut [f64],
+    h: f64,
+    t_target: f64,
+    observe: &mut O,
+) -> Result<bool, StepFailure>
+where
+    S: OdeSystem + ?Sized,
+    M: EmbeddedMethod<S>,
+    O: FnMut(&M, Trial) + ?Sized,
+{
+    method.control().h = h;
+    let exact = method.rewind(*t);
+    advance_observed(method, sys, ws, t, y, t_target, observe).map(|()| exact)
+}
+
+#[allow(clippy::too_many_arguments)]
+fn advance_landing<S, M, O>(
+    method: &mut M,
+    sys: &S,
+    ws: &mut S::Workspace,
+    t: &mut f64,
+    y: &mut [f64],
+    t_end: f64,
+    pass: bool,
+    observe: &mut O,
+) -> Result<Landing, StepFailure>
+where
+    S: OdeSystem + ?Sized,
+    M: EmbeddedMethod<S>,
+    O: FnMut(&M, Trial) + ?Sized,
+{
     let t_start = *t;
+    method.call_start();
     let c = method.control();
     c.backup.copy_from_slice(y);
     let (h_start, last_step) = (c.h, c.stats.last_step);
-    let result = advance_inner(method, sys, ws, t, y, t_end, observe);
+    let result = advance_inner(method, sys, ws, t, y, t_end, pass, observe);
     if result.is_err() {
         let c = method.control();
+        c.straddle_t = f64::NAN;
         y.copy_from_slice(&c.backup);
         *t = t_start;
         c.h = h_start;
@@ -230,6 +356,7 @@ where
     result
 }
 
+#[allow(clippy::too_many_arguments)]
 fn advance_inner<S, M, O>(
     method: &mut M,
     sys: &S,
@@ -237,8 +364,9 @@ fn advance_inner<S, M, O>(
     t: &mut f64,
     y: &mut [f64],
     t_end: f64,
+    pass: bool,
     observe: &mut O,
-) -> Result<(), StepFailure>
+) -> Result<Landing, StepFailure>
 where
     S: OdeSystem + ?Sized,
     M: EmbeddedMethod<S>,
@@ -247,15 +375,30 @@ where
     let mut steps = 0u64;
     let mut non_finite = 0u32;
     let budget = step_budget(method.control().max_steps, t_end - *t);
+    let mut landing = Landing::OnTarget;
+    let mut checkpointed = f64::NAN;
     while *t < t_end {
         let c = method.control();
         if steps >= budget {
             return Err(StepFailure::TooManySteps { t: *t, steps });
         }
         let remaining = t_end - *t;
-        // Clip the last step to land on t_end (also when only slightly shorter).
-        let last = c.h >= remaining * (1.0 - 1e-12);
+        // Clip the last step to land on t_end (also when only slightly
+        // shorter); passing it, only when it ends within the same 1e-12.
+        let last = if pass {
+            (c.h - remaining).abs() <= remaining * 1e-12
+        } else {
+            c.h >= remaining * (1.0 - 1e-12)
+        };
         let h = if last { remaining } else { c.h };
+        let straddle = pass && !last && h > remaining;
+        if straddle && checkpointed != *t {
+            checkpointed = *t;
+            c.straddle_t = *t;
+            c.straddle_h = h;
+            c.straddle_y.copy_from_slice(y);
+            method.checkpoint(*t);
+        }
         let h_min = TUNING.min_step_eps * f64::EPSILON * t.abs().max(t_end.abs()).max(1e-3);
         if h < h_min && !last {
             return Err(StepFailure::StepTooSmall { t: *t, h });
@@ -288,6 +431,11 @@ where
                 method.state_changed();
             }
             *t = if last { t_end } else { *t + h };
+            landing = if straddle {
+                Landing::Past
+            } else {
+                Landing::OnTarget
+            };
             steps += 1;
             let factor = method.accepted(factor);
             let c = method.control();
@@ -305,5 +453,5 @@ where
             method.control().h = h * factor;
         }
     }
-    Ok(())
+    Ok(landing)
 }

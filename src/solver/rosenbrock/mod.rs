@@ -88,6 +88,25 @@ pub struct Rosenbrock<Sys: StiffSystem> {
     /// grow the step (Hairer & Wanner II, IV.8: facmax = 1 after a
     /// rejection).
     no_grow: bool,
+    /// What a retake of the step that may pass the communication point,
+    /// clipped to it, needs ([`EmbeddedMethod::rewind`]).
+    checkpoint: Checkpoint<Sys::Jacobian>,
+}
+
+/// The stiff method at the start of a step that may pass the communication
+/// point: its time (NaN if none), the Jacobian's age and the no-growth
+/// flag there; the kept Jacobian is parked here (swapped, not copied) if a
+/// rejected trial from that start would replace it.
+#[derive(Clone, Debug, PartialEq)]
+struct Checkpoint<J> {
+    t: f64,
+    jac_age: Option<u32>,
+    no_grow: bool,
+    /// Trials from the checkpoint's start are still running.
+    open: bool,
+    /// `jac` holds the Jacobian of the checkpoint.
+    parked: bool,
+    jac: J,
 }
 
 impl<Sys: StiffSystem> Rosenbrock<Sys> {
@@ -122,6 +141,14 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
             trial_balance: None,
             energy_rejections: 0,
             no_grow: false,
+            checkpoint: Checkpoint {
+                t: f64::NAN,
+                jac_age: None,
+                no_grow: false,
+                open: false,
+                parked: false,
+                jac: sys.new_jacobian(),
+            },
         }
     }
 
@@ -174,6 +201,48 @@ impl<Sys: StiffSystem> Rosenbrock<Sys> {
                 sys.save_jacobian(&self.jac, out);
             }
         }
+    }
+
+    /// The checkpoint of the step that may pass the communication point
+    /// (its time, NaN if none; the Jacobian's age there, -1 for none; the
+    /// no-growth flag; and the Jacobian parked there, if any), for a saved
+    /// state.
+    pub fn save_checkpoint(&self, sys: &Sys, out: &mut Vec<f64>) {
+        let ck = &self.checkpoint;
+        out.push(ck.t);
+        out.push(ck.jac_age.map_or(-1.0, f64::from));
+        out.push(f64::from(u8::from(ck.no_grow)));
+        out.push(f64::from(u8::from(ck.parked)));
+        if ck.parked {
+            sys.save_jacobian(&ck.jac, out);
+        }
+    }
+
+    /// Reads what [`save_checkpoint`](Self::save_checkpoint) wrote; false
+    /// if it does not fit.
+    pub fn load_checkpoint(&mut self, sys: &Sys, src: &[f64]) -> bool {
+        let [t, age, no_grow, parked, jac @ ..] = src else {
+            return false;
+        };
+        let flag = |x: f64| (x == 0.0 || x == 1.0).then_some(x == 1.0);
+        let (Some(no_grow), Some(parked)) = (flag(*no_grow), flag(*parked)) else {
+            return false;
+        };
+        let jac_age = match *age {
+            -1.0 => None,
+            a if a >= 0.0 && a.fract() == 0.0 && a <= f64::from(u32::MAX) => Some(a as u32),
+            _ => return false,
+        };
+        if parked {
+            if !sys.load_jacobian(&mut self.checkpoint.jac, jac) {
+                return false;
+            }
+        } else if !jac.is_empty() {
+            return false;
+        }
+        let ck = &mut self.checkpoint;
+        (ck.t, ck.jac_age, ck.no_grow, ck.open, ck.parked) = (*t, jac_age, no_grow, false, parked);
+        true
     }
 
     /// Reads what [`save`](Self::save) wrote; false (and a fresh Jacobian
@@ -579,6 +648,7 @@ impl<Sys: StiffSystem> EmbeddedMethod<Sys> for Rosenbrock<Sys> {
     /// Small increases are skipped to keep the factorization; the Jacobian
     /// ages by one step.
     fn accepted(&mut self, factor: f64) -> f64 {
+        self.checkpoint.open = false;
         let factor = if self.no_grow {
             factor.min(1.0)
         } else {
@@ -595,11 +665,64 @@ impl<Sys: StiffSystem> EmbeddedMethod<Sys> for Rosenbrock<Sys> {
     }
 
     fn rejected(&mut self) {
+        let ck = &mut self.checkpoint;
+        if ck.open && !ck.parked && self.jac_age.is_some() {
+            // the next trial evaluates a fresh Jacobian into `jac`: park
+            // the checkpoint's first
+            std::mem::swap(&mut self.jac, &mut ck.jac);
+            ck.parked = true;
+        }
         self.jac_age = None;
         self.no_grow = self.energy_check;
     }
 
     fn failed(&mut self) {
         self.invalidate();
+        self.checkpoint.t = f64::NAN;
+    }
+
+    fn call_start(&mut self) {
+        self.no_grow = false;
+    }
+
+    fn checkpoint(&mut self, t: f64) {
+        let ck = &mut self.checkpoint;
+        ck.t = t;
+        ck.jac_age = self.jac_age;
+        ck.no_grow = self.no_grow;
+        ck.open = true;
+        ck.parked = false;
+    }
+
+    /// Back to the checkpoint's Jacobian, its age and no-growth flag; the
+    /// first stage is evaluated again (the same bits) and the matrix
+    /// factored again.
+    fn rewind(&mut self, t: f64) -> bool {
+        self.state_changed();
+        self.factored_c = None;
+        let ck = &mut self.checkpoint;
+        if ck.t != t {
+            self.jac_age = None;
+            return false;
+        }
+        if ck.parked {
+            std::mem::swap(&mut self.jac, &mut ck.jac);
+            ck.parked = false;
+        }
+        ck.open = true;
+        self.jac_age = ck.jac_age;
+        self.no_grow = ck.no_grow;
+        true
+    }
+
+    /// The first stage of the last accepted step (swapped into `f_end` by
+    /// [`Self::take_step`]), until the next trial.
+    fn start_derivative(&self) -> Option<&[f64]> {
+        Some(&self.f_end)
+    }
+
+    /// The next step's first stage, if kept for time `t`.
+    fn end_derivative(&self, t: f64) -> Option<&[f64]> {
+        (self.f_start_at == Some(t)).then_some(&self.f_start[..])
     }
 }
