@@ -258,16 +258,16 @@ fn a_state_of_the_previous_version_is_refused() {
     let model = 16 + guid_len + 1 + 8 + 9 + 8;
     assert_eq!(
         u32::from_le_bytes(bytes[model..model + 4].try_into().unwrap()),
-        7
+        8
     );
-    bytes[model..model + 4].copy_from_slice(&6u32.to_le_bytes());
+    bytes[model..model + 4].copy_from_slice(&7u32.to_le_bytes());
     let n = bytes.len() - 8;
     let sum = fnv1a_64(&bytes[..n]);
     bytes[n..].copy_from_slice(&sum.to_le_bytes());
     let (status, _) = a.deserialize(&bytes);
     assert_eq!(status, ERROR);
     assert!(
-        a.logged(ERROR, "model state version 6 is not supported (expected 7)"),
+        a.logged(ERROR, "model state version 7 is not supported (expected 8)"),
         "{:?}",
         a.log.borrow()
     );

@@ -186,12 +186,14 @@ pub fn read(bytes: &[u8]) -> Result<BeltDrive, String> {
                 return Err("model state is corrupt (averaging window after its time)".into());
             }
             let data = r.f64s_any()?;
-            if !drive.restore(t, &y, window, inputs, h, stats, &data) {
-                return Err("model state's integrator data does not fit the parameters".into());
-            }
             let free = r.f64s(drive.arm_free_angles().len())?;
+            // the free angles first: setting them forgets what the
+            // integrator kept, which the integrator data then restore
             if !drive.set_arm_free_angles(&free) {
                 return Err("model state holds non-finite tensioner free angles".into());
+            }
+            if !drive.restore(t, &y, window, inputs, h, stats, &data) {
+                return Err("model state's integrator data does not fit the parameters".into());
             }
             m.drive = Some(drive);
         }
