@@ -30,8 +30,9 @@ fn bits(x: &[f64]) -> Vec<u64> {
 /// At every communication point of a run, the step taken past it and
 /// retaken clipped (`Drive::materialise`) is, to the bit, the step a drive
 /// that clips (look-ahead off) takes from the same state; so are the step
-/// size and the continuation. Some of these retakes follow rejected trials
-/// (the parked Jacobian of the stiff method).
+/// size and the continuation (the counters differ: they count the trials
+/// past the point too). Some of these retakes follow rejected trials (the
+/// parked Jacobian of the stiff method).
 #[test]
 fn materialising_gives_the_clipped_step() {
     for (name, p) in drives() {
@@ -55,7 +56,6 @@ fn materialising_gives_the_clipped_step() {
                 p.solver.method
             );
             assert_eq!(a.next_step_size(), b.next_step_size(), "{name} at {t}");
-            assert_eq!(a.stats().rejected, b.stats().rejected, "{name} at {t}");
             // the same continuation: both step past from here
             b.set_look_ahead(true);
             let (mut a2, mut b2) = (a.clone(), b);
