@@ -180,3 +180,43 @@ fn held_inputs_give_the_same_steps_at_any_communication_step() {
         }
     }
 }
+
+/// A state replaced at a communication point the integrator stepped past
+/// (a tap on the belt, a perturbed copy restored with the integrator's
+/// data) is the state the next call starts from: the step taken past, which
+/// led to the old state, is dropped. Either way in gives the same bits, and
+/// they differ from the run left alone. (A changed spring free angle acts
+/// like a changed input: tests/tensioner.rs, the quasi-static slide.)
+#[test]
+fn a_replaced_state_is_not_the_step_past() {
+    for (name, p) in drives() {
+        let mut a = Drive::new(&p, 0.0).expect("valid");
+        a.advance(0.0213).expect("runs");
+        assert!(a.step_past().is_some(), "{name}: stepped past");
+        let mut y = a.state().to_vec();
+        y[2] += 1e-3 * (1.0 + y[2].abs());
+        let (mut b, mut c, mut left) = (a.clone(), a.clone(), a.clone());
+        assert!(b.set_state(&y));
+        let (t, inputs, h, stats) = (a.time(), *a.inputs(), a.next_step_size(), a.stats());
+        assert!(c.restore(t, &y, a.window(), inputs, h, stats, &a.integrator_data()));
+        // the unchanged state restored keeps the step past
+        let mut same = a.clone();
+        let same_y = a.state().to_vec();
+        assert!(same.restore(
+            t,
+            &same_y,
+            a.window(),
+            inputs,
+            h,
+            stats,
+            &a.integrator_data()
+        ));
+        assert!(same.step_past().is_some(), "{name}: the step past kept");
+        for x in [&mut b, &mut c, &mut left, &mut same] {
+            x.advance(0.0227).expect("runs");
+        }
+        assert_eq!(bits(b.state()), bits(c.state()), "{name}");
+        assert_ne!(bits(b.state()), bits(left.state()), "{name}");
+        assert_eq!(bits(same.state()), bits(left.state()), "{name}");
+    }
+}

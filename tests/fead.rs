@@ -119,12 +119,7 @@ fn tap_span(d: &mut Drive, v0: f64) {
             y[o.spin] += along.signum() * v0 * PI / len * (PI * s / len).cos();
         }
     }
-    let t = d.time();
-    let inputs = *d.inputs();
-    let h = d.next_step_size();
-    let stats = d.stats();
-    let data = d.integrator_data();
-    assert!(d.restore(t, &y, d.window(), inputs, h, stats, &data));
+    assert!(d.set_state(&y));
 }
 
 /// Dominant frequency of `d.outputs().span_mid_deflection[0]` over

@@ -1210,6 +1210,10 @@ fn spin_kick_at_rest(
         q.solver.method = method;
         q.solver.rel_tol = 1e-4;
         let mut drive: Drive = adapter::build(&q).expect("valid drive");
+        // every sample a step's end: the samples resolve the pitching only
+        // if the steps do (stepping past, the stiff method would take its
+        // own, longer steps and the samples would be their interpolants)
+        drive.set_look_ahead(false);
         let lin = adapter::linearise(&drive);
         let picked = kicked(&lin);
         let inner = &picked[trim..picked.len() - trim];

@@ -260,15 +260,11 @@ pub fn state(drive: &Drive) -> &[f64] {
 /// Replaces the drive's state at its current time (a perturbed initial
 /// condition for a free-vibration run).
 pub fn set_state(drive: &mut Drive, y: &[f64]) -> Result<(), String> {
-    let (t, inputs) = (drive.time(), *drive.inputs());
-    let stats = drive.stats();
-    let h = drive.next_step_size();
-    let data = drive.integrator_data();
-    if drive.restore(t, y, drive.window(), inputs, h, stats, &data) {
+    if drive.set_state(y) {
         Ok(())
     } else {
         Err(format!(
-            "state of length {} does not fit the drive ({})",
+            "state of length {} does not fit the drive ({}) or is not finite",
             y.len(),
             drive.state().len()
         ))
