@@ -32,6 +32,9 @@ impl OdeSystem for BeltSystem {
     fn after_step(&self, y: &mut [f64]) -> bool {
         BeltSystem::after_step(self, y)
     }
+    fn next_breakpoint(&self, t: f64) -> f64 {
+        BeltSystem::next_breakpoint(self, t)
+    }
 }
 
 impl StiffSystem for BeltSystem {

@@ -296,8 +296,9 @@ impl Drive {
     ///
     /// Inputs with the values held (to the bit, no rate before or after)
     /// leave a step the integrator took past the current time valid; any
-    /// other change brings the integrator back to the current time first
-    /// ([`Self::materialise`]) and clips the next call's last step.
+    /// other change drops that step ([`Self::drop_step_past`]: the
+    /// integration continues from the state shown at the current time, so
+    /// nothing read now changes) and clips the next call's last step.
     pub fn set_inputs(&mut self, mut inputs: Inputs) {
         inputs.t0 = self.t;
         // the right-hand side stays the same to the bit where the values
@@ -315,16 +316,24 @@ impl Drive {
             return;
         }
         if !same {
-            self.materialise();
+            self.drop_step_past();
             self.clip_next = true;
         }
+        let mut before = [0.0; MAX_PULLEYS];
+        for (j, w) in before.iter_mut().enumerate().take(self.sys.np) {
+            *w = self.sys.prescribed_speed(j, self.t).0;
+        }
         self.sys.inputs = inputs;
-        for j in 0..self.sys.np {
+        // a speed-driven pulley whose prescription at this time changed
+        // jumps to it (one that kept it keeps its state, the state shown)
+        for (j, w_before) in before.iter().enumerate().take(self.sys.np) {
             if self.sys.pulleys[j].speed_driven {
-                let o = self.sys.state_layout().pulley(j).speed;
                 let w = self.sys.prescribed_speed(j, self.t).0;
-                same &= w.to_bits() == self.y[o].to_bits();
-                self.y[o] = w;
+                if w.to_bits() != w_before.to_bits() {
+                    let o = self.sys.state_layout().pulley(j).speed;
+                    same = false;
+                    self.y[o] = w;
+                }
             }
         }
         if !same {
@@ -446,13 +455,26 @@ impl Drive {
         Ok(())
     }
 
-    /// Brings the integrator back to the drive's time if it stepped past
-    /// it: the step it took past is taken again from its start, clipped to
-    /// the drive's time (with the method as it was at that start, the same
-    /// bits as a call that clipped it in the first place). The drive's
-    /// state becomes that step's end (its impulses, the last window's, are
-    /// kept). Should the retake fail, the integrator continues from the
-    /// interpolated state.
+    /// Forgets the step the integrator took past the drive's time, if it
+    /// took one: the next call integrates from the drive's state, the
+    /// step's interpolant at the drive's time, which is what the outputs
+    /// at this time showed (a master that changes an input after reading
+    /// the outputs sees no output change that the input does not cause).
+    pub fn drop_step_past(&mut self) {
+        if self.ahead.active {
+            self.ahead.active = false;
+            self.integrator.state_changed();
+        }
+    }
+
+    /// What a drive that clips its steps would show at the drive's time
+    /// (diagnostics: `examples/dense_output.rs`): if the integrator
+    /// stepped past it, the step it took past is taken again from its
+    /// start, clipped to the drive's time (with the method as it was at
+    /// that start, the same bits as a call that clipped it in the first
+    /// place), and the drive's state becomes that step's end (its impulses,
+    /// the last window's, are kept). Should the retake fail, the integrator
+    /// continues from the interpolated state.
     pub fn materialise(&mut self) {
         let a = &mut self.ahead;
         if !a.active {
@@ -476,10 +498,11 @@ impl Drive {
     }
 
     /// Whether [`Self::advance`] may step past its target time (on by
-    /// default); switching it off brings the integrator back first.
+    /// default); switching it off drops a step taken past
+    /// ([`Self::drop_step_past`]).
     pub fn set_look_ahead(&mut self, on: bool) {
         if !on {
-            self.materialise();
+            self.drop_step_past();
         }
         self.look_ahead = on;
     }
@@ -641,7 +664,7 @@ impl Drive {
         if y.len() != self.y.len() || !y.iter().all(|v| v.is_finite()) {
             return false;
         }
-        self.ahead.active = false;
+        self.drop_step_past();
         self.y.copy_from_slice(y);
         self.integrator.state_changed();
         true
@@ -658,9 +681,9 @@ impl Drive {
 
     /// Restores what [`arm_free_angles`](Self::arm_free_angles) returned;
     /// false (nothing changed) if the count does not fit or one is not finite.
-    /// Angles other than the current ones act like changed inputs: the
-    /// integrator is brought back to the drive's time first
-    /// ([`Self::materialise`]) and the next call's last step is clipped.
+    /// Angles other than the current ones act like changed inputs: a step
+    /// taken past the drive's time is dropped ([`Self::drop_step_past`])
+    /// and the next call's last step is clipped.
     pub fn set_arm_free_angles(&mut self, angles: &[f64]) -> bool {
         if angles.len() != self.sys.state_layout().n_arms() || !angles.iter().all(|a| a.is_finite())
         {
@@ -672,7 +695,7 @@ impl Drive {
             .zip(angles)
             .any(|(a, b)| a.to_bits() != b.to_bits())
         {
-            self.materialise();
+            self.drop_step_past();
             self.clip_next = true;
         }
         let arms = self.sys.pulleys[..self.sys.np]

@@ -26,6 +26,14 @@ pub trait OdeSystem {
     fn after_step(&self, _y: &mut [f64]) -> bool {
         false
     }
+    /// The first time after `t` at which f has a kink in time (the end of
+    /// an input's ramp); infinity if none. A step that would pass the
+    /// call's end time with such a kink inside is clipped to the end time
+    /// instead ([`advance_past`]): the interpolant over it would cross the
+    /// kink.
+    fn next_breakpoint(&self, _t: f64) -> f64 {
+        f64::INFINITY
+    }
 }
 
 /// Counters, cumulative over the life of the integrator.
@@ -272,7 +280,9 @@ fn landed(r: Result<Landing, StepFailure>) -> Result<(), StepFailure> {
 
 /// Like [`advance_observed`], but the last step is not clipped to land on
 /// `t_end`: the integration ends at the first accepted step's end at or
-/// past `t_end` (a step within 1e-12 of it relative is still clipped to it).
+/// past `t_end` (a step within 1e-12 of it relative is still clipped to it,
+/// and so is a step with a kink of f in time inside,
+/// [`OdeSystem::next_breakpoint`]).
 /// The step that may pass `t_end` is checkpointed first
 /// ([`EmbeddedMethod::checkpoint`]; its start in `StepControl::straddle_*`)
 /// so that it can be retaken clipped ([`retake_clipped`]).
@@ -390,8 +400,12 @@ where
         } else {
             c.h >= remaining * (1.0 - 1e-12)
         };
-        let h = if last { remaining } else { c.h };
-        let straddle = pass && !last && h > remaining;
+        let mut h = if last { remaining } else { c.h };
+        let mut straddle = pass && !last && h > remaining;
+        let mut last = last;
+        if straddle && sys.next_breakpoint(*t) <= *t + h {
+            (h, last, straddle) = (remaining, true, false);
+        }
         if straddle && checkpointed != *t {
             checkpointed = *t;
             c.straddle_t = *t;

@@ -439,6 +439,27 @@ impl BeltSystem {
         inp.torque[j] + inp.torque_rate[j] * (t - inp.t0) + p.ramp(p.torque_ramp, t)
     }
 
+    /// The first time after `t` at which a pulley's ramp (applied torque or
+    /// prescribed speed) starts or ends: the right-hand side has a kink
+    /// there. Infinity if none is to come.
+    pub fn next_breakpoint(&self, t: f64) -> f64 {
+        if self.relaxation.pulleys_held {
+            return f64::INFINITY;
+        }
+        let mut next = f64::INFINITY;
+        for p in &self.pulleys[..self.np] {
+            if p.torque_ramp == 0.0 && p.omega_ramp == 0.0 {
+                continue;
+            }
+            for kink in [0.0, p.ramp_time] {
+                if kink > t {
+                    next = next.min(kink);
+                }
+            }
+        }
+        next
+    }
+
     /// Prescribed speed of a speed-driven pulley j at time t, and its rate
     /// (0 while the relaxation holds the pulleys).
     #[inline]
