@@ -28,6 +28,11 @@ mod ssv;
 #[path = "common/accessory.rs"]
 mod accessory;
 
+#[path = "../benches/common/mod.rs"]
+#[allow(dead_code)] // median
+mod timing;
+use timing::cpu_time;
+
 use belt_drive::drive::Integrator;
 use belt_drive::model::elements::ARM_FRICTION_RATE;
 use belt_drive::model::params::Method;
@@ -42,16 +47,6 @@ use belt_drive::{Drive, DriveParams};
 const WINDOW: f64 = 0.1;
 /// Communication step [s].
 const COMM: f64 = 1e-3;
-
-fn cpu_time() -> f64 {
-    let mut ts = libc::timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: valid pointer to a timespec; the clock id is a constant.
-    unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
-    ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9
-}
 
 /// The drive `name` at crank speed `rpm` with `method` at relTol 1e-4.
 fn drive(name: &str, rpm: f64, method: Method) -> DriveParams {

@@ -30,19 +30,14 @@ mod accessory;
 #[path = "common/sixty_body.rs"]
 mod sixty_body;
 
+#[path = "../benches/common/mod.rs"]
+#[allow(dead_code)] // median
+mod timing;
+use timing::cpu_time;
+
 use belt_drive::drive::Integrator;
 use belt_drive::model::params::Method;
 use belt_drive::{Drive, DriveParams};
-
-fn cpu_time() -> f64 {
-    let mut ts = libc::timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: valid pointer to a timespec; the clock id is a constant.
-    unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
-    ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9
-}
 
 /// Means over a window: pulley speeds from the angle differences, span
 /// tensions sampled at the 1 ms communication points.

@@ -151,18 +151,11 @@ impl Integrator {
         t_end: f64,
         step_start: &mut dyn FnMut(f64, &[f64]),
     ) -> Result<(), StepFailure> {
-        // a trial is accepted when its error norm is at most 1
         match self {
-            Self::Rkf45(i) => i.advance_observed(sys, ws, t, y, t_end, &mut |_, tr: Trial| {
-                if tr.err <= 1.0 {
-                    step_start(tr.t, tr.y);
-                }
-            }),
-            Self::Rosenbrock(i) => i.advance_observed(sys, ws, t, y, t_end, &mut |_, tr: Trial| {
-                if tr.err <= 1.0 {
-                    step_start(tr.t, tr.y);
-                }
-            }),
+            Self::Rkf45(i) => i.advance_observed(sys, ws, t, y, t_end, &mut observer(step_start)),
+            Self::Rosenbrock(i) => {
+                i.advance_observed(sys, ws, t, y, t_end, &mut observer(step_start))
+            }
         }
     }
 
@@ -178,13 +171,6 @@ impl Integrator {
         t_end: f64,
         step_start: &mut dyn FnMut(f64, &[f64]),
     ) -> Result<Landing, StepFailure> {
-        fn observer<M>(step_start: &mut dyn FnMut(f64, &[f64])) -> impl FnMut(&M, Trial) + '_ {
-            move |_, tr: Trial| {
-                if tr.err <= 1.0 {
-                    step_start(tr.t, tr.y);
-                }
-            }
-        }
         match self {
             Self::Rkf45(i) => {
                 step_control::advance_past(i, sys, ws, t, y, t_end, &mut observer(step_start))
@@ -307,6 +293,16 @@ impl Integrator {
         match self {
             Self::Rkf45(i) => i.load(extra),
             Self::Rosenbrock(i) => i.load(sys, point, extra),
+        }
+    }
+}
+
+/// An observer of the trials that tells `step_start` the time and state at
+/// the start of every accepted trial (error norm at most 1).
+fn observer<M>(step_start: &mut dyn FnMut(f64, &[f64])) -> impl FnMut(&M, Trial) + '_ {
+    move |_, tr: Trial| {
+        if tr.err <= 1.0 {
+            step_start(tr.t, tr.y);
         }
     }
 }
