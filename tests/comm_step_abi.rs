@@ -3,8 +3,8 @@
 //! the points (its steps do not depend on the communication step); a saved
 //! state carries the step taken past, so a restored run continues to the
 //! bit; an input set to the value it holds changes nothing, and a changed
-//! one is applied after the step past is retaken clipped, identically in a
-//! restored run.
+//! one drops the step past and continues from the state shown, identically
+//! in a restored run.
 
 mod abi;
 

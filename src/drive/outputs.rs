@@ -172,9 +172,89 @@ impl Recorder for OutputRecorder<'_> {
 }
 
 impl Drive {
-    /// All outputs at the current state.
+    /// All outputs at the current state: [`Self::state_outputs`] and
+    /// [`Self::add_force_outputs`].
     pub fn outputs(&mut self) -> Outputs {
+        let mut out = self.state_outputs();
+        self.add_force_outputs(&mut out);
+        out
+    }
+
+    /// The outputs read from the state and the geometry alone, with no
+    /// evaluation of the forces: pulley angles, speeds, slips, wrap angles,
+    /// rotor speeds, the arms' angles, rates and spring torques, the means
+    /// over a non-empty window (impulses over its duration), the span
+    /// slips and mid-span deflections, the probe's position, the input
+    /// energy and the interval outputs. Every other field is zero; so are
+    /// the means of an empty window (they are the instantaneous forces).
+    pub fn state_outputs(&self) -> Outputs {
         let mut out = Outputs::default();
+        let np = self.sys.np;
+        let p = self.probe;
+        out.probe.position = state::body(&self.y, p).position();
+        let surface = |j: usize| {
+            let w = self.sys.pulley_speed(j, self.t, &self.y);
+            let side = self.layout.wrap_of(j).map_or(1.0, |w| w.side);
+            side * w * self.sys.pulleys[j].radius
+        };
+        let v1 = surface(0);
+        let states = self.sys.state_layout();
+        for j in 0..np {
+            let po = &mut out.pulleys[j];
+            po.angle = self.y[states.pulley(j).angle];
+            po.omega = self.sys.pulley_speed(j, self.t, &self.y);
+            po.rotor_omega = if self.sys.pulleys[j].decoupler.is_some() {
+                self.y[states.decoupler(j).rotor_speed]
+            } else {
+                po.omega
+            };
+            if let Some(arm) = &self.sys.pulleys[j].arm {
+                let o = states.arm(j);
+                po.arm_angle = self.y[o.angle];
+                po.arm_omega = self.y[o.rate];
+                po.arm_spring_torque = arm.spring_torque(self.y[o.angle]);
+                po.arm_free_angle = arm.free_angle;
+            }
+            po.slip = if v1 != 0.0 {
+                1.0 - surface(j) / v1
+            } else {
+                0.0
+            };
+            po.wrap_angle = self.layout.wrap_of(j).map_or(0.0, |w| w.angle);
+            // means over the window: impulse / duration, exact for both
+            // integrators
+            let span = self.t - self.window.start;
+            if span > 0.0 {
+                let q = states.impulses(j);
+                po.mean_belt_torque = self.y[q.belt_torque] / span;
+                po.mean_drive_torque = self.y[q.drive_torque] / span;
+                po.mean_hub_force = q.hub_force.map(|k| self.y[k] / span);
+                po.mean_alpha = self.window.omega_change[j] / span;
+            }
+            let v = surface(j);
+            out.span_slip[j] = if v != 0.0 {
+                1.0 - surface((j + 1) % np) / v
+            } else {
+                0.0
+            };
+        }
+        for k in 0..np {
+            if let Some((d, rate)) = self.mid_deflection(k) {
+                out.span_mid_deflection[k] = d;
+                out.span_mid_deflection_rate[k] = rate;
+            }
+        }
+        out.energy_input = self.y[states.energy().work_in];
+        out.interval = self.interval.outputs();
+        out
+    }
+
+    /// Adds to `out` (from [`Self::state_outputs`]) the outputs that take
+    /// one recorded evaluation of the forces and the energy sums: torques,
+    /// accelerations, hub forces, tensions, the probe's forces, powers,
+    /// energies, and the means of an empty window (the instantaneous
+    /// values).
+    pub fn add_force_outputs(&mut self, out: &mut Outputs) {
         let np = self.sys.np;
         let mut span_mid = [[0.0; 2]; MAX_PULLEYS];
         for (k, mid) in span_mid.iter_mut().enumerate().take(np) {
@@ -184,7 +264,7 @@ impl Drive {
         }
         {
             let mut rec = OutputRecorder {
-                out: &mut out,
+                out: &mut *out,
                 tensions: &mut self.tensions,
                 probe: self.probe,
                 span_mid,
@@ -203,73 +283,21 @@ impl Drive {
             .iter()
             .copied()
             .fold(f64::NEG_INFINITY, f64::max);
-        let p = self.probe;
-        out.probe.position = state::body(&self.y, p).position();
-        let surface = |j: usize| {
-            let w = self.sys.pulley_speed(j, self.t, &self.y);
-            let side = self.layout.wrap_of(j).map_or(1.0, |w| w.side);
-            side * w * self.sys.pulleys[j].radius
-        };
-        let v1 = surface(0);
-        for j in 0..np {
-            let states = self.sys.state_layout();
-            let po = &mut out.pulleys[j];
-            po.angle = self.y[states.pulley(j).angle];
-            po.omega = self.sys.pulley_speed(j, self.t, &self.y);
-            if self.sys.pulleys[j].decoupler.is_none() {
-                po.rotor_omega = po.omega;
-            }
-            if let Some(arm) = &self.sys.pulleys[j].arm {
-                let o = states.arm(j);
-                po.arm_angle = self.y[o.angle];
-                po.arm_omega = self.y[o.rate];
-                po.arm_spring_torque = arm.spring_torque(self.y[o.angle]);
-                po.arm_free_angle = arm.free_angle;
-            }
-            po.slip = if v1 != 0.0 {
-                1.0 - surface(j) / v1
-            } else {
-                0.0
-            };
-            po.wrap_angle = self.layout.wrap_of(j).map_or(0.0, |w| w.angle);
-            // means over the window: impulse / duration, exact for both
-            // integrators; the instantaneous values of an empty window
-            let span = self.t - self.window.start;
-            if span > 0.0 {
-                let q = states.impulses(j);
-                po.mean_belt_torque = self.y[q.belt_torque] / span;
-                po.mean_drive_torque = self.y[q.drive_torque] / span;
-                po.mean_hub_force = q.hub_force.map(|k| self.y[k] / span);
-                po.mean_alpha = self.window.omega_change[j] / span;
-            } else {
+        if self.t - self.window.start <= 0.0 {
+            for po in &mut out.pulleys[..np] {
                 po.mean_belt_torque = po.belt_torque;
                 po.mean_drive_torque = po.drive_torque;
                 po.mean_hub_force = po.hub_force;
                 po.mean_alpha = po.alpha;
             }
-            let v = surface(j);
-            out.span_slip[j] = if v != 0.0 {
-                1.0 - surface((j + 1) % np) / v
-            } else {
-                0.0
-            };
-        }
-        for k in 0..np {
-            if let Some((d, rate)) = self.mid_deflection(k) {
-                out.span_mid_deflection[k] = d;
-                out.span_mid_deflection_rate[k] = rate;
-            }
         }
         let e = self.sys.state_layout().energy();
-        out.energy_input = self.y[e.work_in];
         // the state integrates the friction work; what the creep springs
         // still store is not dissipated (it is in the potential energy)
         out.energy_dissipated = self.y[e.dissipated] - self.sys.creep_spring_energy(&self.y);
         let (kin, pot) = self.sys.energies(&self.y);
         out.kinetic_energy = kin;
         out.potential_energy = pot;
-        out.interval = self.interval.outputs();
-        out
     }
 
     /// Deflection and its rate at the fixed mid-point of the free span from

@@ -42,7 +42,11 @@ pub struct BeltDrive {
     inputs: Inputs,
     start_time: f64,
     drive: Option<Drive>,
-    outputs: Option<Outputs>,
+    /// The outputs at the drive's time, evaluated when first read; true
+    /// once those that take a force evaluation are in
+    /// ([`Drive::add_force_outputs`]), so that a master reading speeds,
+    /// angles and means only pays for no force evaluation.
+    outputs: Option<(Outputs, bool)>,
 }
 
 /// The refusal of a coded Integer parameter whose value is no code: its
@@ -54,6 +58,40 @@ fn no_code(var: Var, code: i32) -> String {
         "{} must be one of its codes (got {code}): {}",
         v.name, v.description
     )
+}
+
+/// Whether output `var` takes a force evaluation
+/// ([`Drive::add_force_outputs`]); the means do only over an empty window,
+/// where they are the instantaneous values.
+fn needs_forces(var: Var, window_empty: bool) -> bool {
+    match var {
+        Var::PulleyOmega
+        | Var::PulleyAngle
+        | Var::PulleySlip
+        | Var::PulleyWrapAngle
+        | Var::PulleyRotorOmega
+        | Var::PulleyArmAngle
+        | Var::PulleyArmOmega
+        | Var::PulleyArmSpringTorque
+        | Var::PulleyArmFreeAngle
+        | Var::SpanSlip
+        | Var::SpanMidDeflection
+        | Var::SpanMidDeflectionRate
+        | Var::SpanMeanTension
+        | Var::SpanMinTension
+        | Var::SpanMaxTension
+        | Var::BeltIntervalMinTension
+        | Var::PulleyArmMeanSpringTorque
+        | Var::ProbeX
+        | Var::ProbeY
+        | Var::EnergyInput => false,
+        Var::PulleyMeanBeltTorque
+        | Var::PulleyMeanDriveTorque
+        | Var::PulleyMeanHubForceX
+        | Var::PulleyMeanHubForceY
+        | Var::PulleyMeanAlpha => window_empty,
+        _ => true,
+    }
 }
 
 /// The scalar variable `var` of the model description.
@@ -163,12 +201,26 @@ impl BeltDrive {
         Ok(self.drive.as_mut().expect("built above"))
     }
 
-    fn outputs(&mut self) -> Result<&Outputs, String> {
-        if self.outputs.is_none() {
-            let out = self.ensure_drive()?.outputs();
-            self.outputs = Some(out);
+    /// The outputs, with those that take a force evaluation if `forces`.
+    fn outputs(&mut self, forces: bool) -> Result<&Outputs, String> {
+        self.ensure_drive()?;
+        let drive = self.drive.as_mut().expect("built above");
+        match &mut self.outputs {
+            Some((_, true)) => {}
+            Some((_, false)) if !forces => {}
+            Some((out, have)) => {
+                drive.add_force_outputs(out);
+                *have = true;
+            }
+            None => {
+                let mut out = drive.state_outputs();
+                if forces {
+                    drive.add_force_outputs(&mut out);
+                }
+                self.outputs = Some((out, forces));
+            }
         }
-        Ok(self.outputs.as_ref().expect("computed above"))
+        Ok(&self.outputs.as_ref().expect("evaluated above").0)
     }
 
     /// A parameter changed: the drive must be rebuilt.
@@ -210,7 +262,9 @@ impl BeltDrive {
         if let Some(stats) = self.stats_output(v) {
             return Ok(stats);
         }
-        let o = self.outputs()?;
+        let d = self.ensure_drive()?;
+        let window_empty = d.time() <= d.window().start;
+        let o = self.outputs(needs_forces(v.var, window_empty))?;
         let p = &o.pulleys[j.min(MAX_PULLEYS - 1)];
         Ok(match v.var {
             Var::PulleyOmega => p.omega,
@@ -421,7 +475,7 @@ impl FmuModel for BeltDrive {
                 v.name
             ));
         }
-        let p = self.outputs()?.pulleys[v.index.min(MAX_PULLEYS - 1)];
+        let p = self.outputs(true)?.pulleys[v.index.min(MAX_PULLEYS - 1)];
         match v.var {
             Var::PulleyOmega => Ok(p.alpha),
             Var::PulleyAngle => Ok(p.omega),
