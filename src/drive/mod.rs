@@ -530,6 +530,12 @@ impl Drive {
         self.window
     }
 
+    /// Whether the window is empty (before the first step): the means are
+    /// then the instantaneous values.
+    pub fn window_empty(&self) -> bool {
+        self.t <= self.window.start
+    }
+
     /// What the right-hand side depends on: time, state and inputs (the
     /// stiff method keeps its first stage in the integrator data for this
     /// point only).
@@ -664,7 +670,7 @@ impl Drive {
         if y.len() != self.y.len() || !y.iter().all(|v| v.is_finite()) {
             return false;
         }
-        self.drop_step_past();
+        self.ahead.active = false;
         self.y.copy_from_slice(y);
         self.integrator.state_changed();
         true

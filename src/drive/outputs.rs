@@ -223,8 +223,8 @@ impl Drive {
             po.wrap_angle = self.layout.wrap_of(j).map_or(0.0, |w| w.angle);
             // means over the window: impulse / duration, exact for both
             // integrators
-            let span = self.t - self.window.start;
-            if span > 0.0 {
+            if !self.window_empty() {
+                let span = self.t - self.window.start;
                 let q = states.impulses(j);
                 po.mean_belt_torque = self.y[q.belt_torque] / span;
                 po.mean_drive_torque = self.y[q.drive_torque] / span;
@@ -283,7 +283,7 @@ impl Drive {
             .iter()
             .copied()
             .fold(f64::NEG_INFINITY, f64::max);
-        if self.t - self.window.start <= 0.0 {
+        if self.window_empty() {
             for po in &mut out.pulleys[..np] {
                 po.mean_belt_torque = po.belt_torque;
                 po.mean_drive_torque = po.drive_torque;

@@ -262,8 +262,7 @@ impl BeltDrive {
         if let Some(stats) = self.stats_output(v) {
             return Ok(stats);
         }
-        let d = self.ensure_drive()?;
-        let window_empty = d.time() <= d.window().start;
+        let window_empty = self.ensure_drive()?.window_empty();
         let o = self.outputs(needs_forces(v.var, window_empty))?;
         let p = &o.pulleys[j.min(MAX_PULLEYS - 1)];
         Ok(match v.var {

@@ -395,14 +395,13 @@ where
         let remaining = t_end - *t;
         // Clip the last step to land on t_end (also when only slightly
         // shorter); passing it, only when it ends within the same 1e-12.
-        let last = if pass {
+        let mut last = if pass {
             (c.h - remaining).abs() <= remaining * 1e-12
         } else {
             c.h >= remaining * (1.0 - 1e-12)
         };
         let mut h = if last { remaining } else { c.h };
         let mut straddle = pass && !last && h > remaining;
-        let mut last = last;
         if straddle && sys.next_breakpoint(*t) <= *t + h {
             (h, last, straddle) = (remaining, true, false);
         }
