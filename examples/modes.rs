@@ -12,9 +12,10 @@
 //! ```
 //!
 //! `--arm-amplitude DEG` (default 0.5): the swing of the tensioner arms at
-//! which their pivot friction is replaced by its describing function in the
-//! analysis about one instant (at rest and `--frozen`; docs/modes.md,
-//! "Frictional tensioner arms"); 0 linearises the friction law as it is.
+//! which their pivot friction is replaced by its describing function, at
+//! rest, `--frozen` and in the Floquet analysis of steady running
+//! (docs/modes.md, "Frictional tensioner arms"); 0 linearises the friction
+//! law as it is.
 //!
 //! `--frozen`: at running speeds, the frozen-time approximation (one
 //! instant's Jacobian with the belt's transport) instead of the Floquet
@@ -162,30 +163,35 @@ fn run() -> Result<(), String> {
         let modes = if !a.frozen && o.transport {
             floquet(&drive, &o, FLOQUET_SUBSTEPS)?
         } else {
-            let (modes, swings) = analyse_drive(&drive, &o)?;
-            for s in swings {
-                if s.stuck {
-                    eprintln!(
-                        "arm {}: pivot friction {:.3} N m sticks it at a swing of {:.3} deg \
-                         (no oscillating arm mode)",
-                        s.pulley,
-                        s.friction_torque,
-                        o.arm_amplitude.to_degrees()
-                    );
-                } else {
-                    eprintln!(
-                        "arm {}: pivot friction {:.3} N m at a swing of {:.3} deg and {:.2} Hz \
-                         acts as a damper of {:.4} N m s/rad (describing function)",
-                        s.pulley,
-                        s.friction_torque,
-                        o.arm_amplitude.to_degrees(),
-                        s.frequency_hz,
-                        s.equivalent_damping
-                    );
-                }
-            }
-            modes
+            analyse_drive(&drive, &o)?
         };
+        for s in &modes.arms {
+            if s.stuck {
+                eprintln!(
+                    "arm {}: pivot friction {:.3} N m sticks it at a swing of {:.3} deg \
+                     (no oscillating arm mode)",
+                    s.pulley,
+                    s.friction_torque,
+                    o.arm_amplitude.to_degrees()
+                );
+            } else {
+                eprintln!(
+                    "arm {}: pivot friction {:.3} N m at a swing of {:.3} deg and {:.2} Hz \
+                     acts as a damper of {:.4} N m s/rad (describing function{})",
+                    s.pulley,
+                    s.friction_torque,
+                    o.arm_amplitude.to_degrees(),
+                    s.frequency_hz,
+                    s.equivalent_damping,
+                    if s.converged {
+                        ""
+                    } else {
+                        "; the frequency did not settle: the arm shares its modes, \
+                         the damper is the last iteration's"
+                    }
+                );
+            }
+        }
         let w = speed.unwrap_or(0.0);
         if let Some(orbit) = &modes.orbit {
             eprintln!(

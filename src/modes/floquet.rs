@@ -153,8 +153,16 @@ struct Monodromy {
     belt_speed: f64,
 }
 
-fn monodromy(drive: &mut Drive, period: f64, substeps: usize) -> Result<Monodromy, String> {
-    let lin0 = adapter::linearise(drive);
+/// The monodromy over one `period` from the drive's state now, its
+/// Jacobians with arm j's pivot friction replaced by a damper
+/// `equivalent[j]` where given ([`adapter::linearise_with`]).
+fn monodromy(
+    drive: &mut Drive,
+    period: f64,
+    substeps: usize,
+    equivalent: &[Option<f64>; MAX_PULLEYS],
+) -> Result<Monodromy, String> {
+    let lin0 = adapter::linearise_with(drive, equivalent);
     let dim = lin0.dim;
     let t0 = drive.time();
     let h = period / substeps as f64;
@@ -162,7 +170,7 @@ fn monodromy(drive: &mut Drive, period: f64, substeps: usize) -> Result<Monodrom
     // LU of I - g h J at the drive's state now (sparse: the chain's
     // Jacobian is banded, plus the pulleys' rows and columns)
     let step_matrix = |drive: &Drive| {
-        let lin = adapter::linearise(drive);
+        let lin = adapter::linearise_with(drive, equivalent);
         let lu = sparse(&lin, -g * h, 1.0)?
             .sp_lu()
             .map_err(|e| format!("the variational step matrix is singular: {e:?}"))?;
@@ -621,15 +629,19 @@ pub fn settled(run: &Drive) -> Result<(Drive, Vec<f64>), String> {
 }
 
 /// The Floquet analysis (steps 3 and 4) from a drive already settled onto
-/// its orbit by [`settle`] (not advanced), `defects` its settling's.
+/// its orbit by [`settle`] (not advanced), `defects` its settling's. The
+/// pivot friction of tensioner arms is replaced by its describing function
+/// at `opts.arm_amplitude` ([`super::describe_arms`]; each iteration one
+/// monodromy about the same orbit, whose trajectory keeps the friction as
+/// it is).
 pub fn floquet_settled(
     settled: &Drive,
-    mut defects: Vec<f64>,
+    defects: Vec<f64>,
     opts: &Options,
     substeps: usize,
 ) -> Result<Modes, String> {
     let substeps = substeps.max(1);
-    let drive = &mut settled.clone();
+    let drive = settled;
     let lin = adapter::linearise(drive);
     let (guess, dir) = passing_period(&lin);
     if !guess.is_finite() || guess >= 1.0 || guess <= 0.0 {
@@ -643,28 +655,54 @@ pub fn floquet_settled(
     let to = shift_map(&lin, dir);
     let y0 = drive.state().to_vec();
     let t0 = drive.time();
-    let mono = monodromy(drive, period, substeps)?;
-    let r = residual(&lin, &to, &y0, drive.state());
-    defects.push(scaled_max(&r, &scales(&lin)));
-    let dim = lin.dim;
-    let mut m = Mat::<f64>::zeros(dim, dim);
-    for rr in 0..dim {
-        for c in 0..dim {
-            m[(to[rr], c)] = mono.phi[(rr, c)];
-        }
-    }
-    let evd = Eigen::new_from_real(m.as_ref())
-        .map_err(|e| format!("eigen-decomposition failed: {e:?}"))?;
-    let mut out = floquet_modes(&mono, &evd, period, substeps, opts)?;
-    out.orbit = Some(Orbit {
-        period,
-        defects,
-        span_tension: mono.span_tension.clone(),
-        belt_speed: mono.belt_speed,
-        time: t0,
-    });
-    Ok(out)
+    let scale = scales(&lin);
+    // a frictional tensioner arm: the monodromy with its friction replaced
+    // by the describing function, iterated on the arm mode's frequency
+    super::describe_arms(
+        drive,
+        opts,
+        RUNNING_ARM_FREQUENCY_TOL,
+        RUNNING_ARM_ITERATIONS,
+        |equivalent| {
+            let run = &mut drive.clone();
+            let mono = monodromy(run, period, substeps, equivalent)?;
+            let mut defects = defects.clone();
+            defects.push(scaled_max(&residual(&lin, &to, &y0, run.state()), &scale));
+            let dim = lin.dim;
+            let mut m = Mat::<f64>::zeros(dim, dim);
+            for rr in 0..dim {
+                for c in 0..dim {
+                    m[(to[rr], c)] = mono.phi[(rr, c)];
+                }
+            }
+            let evd = Eigen::new_from_real(m.as_ref())
+                .map_err(|e| format!("eigen-decomposition failed: {e:?}"))?;
+            let mut out = floquet_modes(&mono, &evd, period, substeps, opts)?;
+            out.orbit = Some(Orbit {
+                period,
+                defects,
+                span_tension: mono.span_tension.clone(),
+                belt_speed: mono.belt_speed,
+                time: t0,
+            });
+            Ok(out)
+        },
+    )
 }
+
+/// The describing-function iteration of a running drive stops when the
+/// arm modes' frequencies change by less than 1e-3 (relative): each
+/// iteration costs a monodromy and its eigen-solve, and the Floquet
+/// frequencies themselves move by about that much between 128 and 256
+/// substeps (docs/modes.md, "Convergence in the substeps").
+pub const RUNNING_ARM_FREQUENCY_TOL: f64 = 1e-3;
+
+/// At most this many describing-function iterations of a running drive
+/// (each a monodromy and its eigen-solve): where the arm shares its mode
+/// with the spans, the mode swinging it most can change from one
+/// iteration to the next, and the iteration then stops here, reported
+/// not converged.
+pub const RUNNING_ARM_ITERATIONS: usize = 6;
 
 /// Modes from the monodromy matrix (module doc, step 3).
 fn floquet_modes(
@@ -707,20 +745,35 @@ fn floquet_modes(
         }
         // The branch (whole turns within P) nearest the eigenvector's own
         // frequency: its velocities against its displacements, lambda ~
-        // (x^H x') / (x^H x) over the bodies and the free pulleys.
+        // (x^H x') / (x^H x) over the bodies, the free pulleys, the
+        // tensioner arms and the decouplers' twist (whose rate is the
+        // rotor's speed less the pulley's).
         let (mut xx, mut xv) = (0.0, c64::new(0.0, 0.0));
-        let mut pair = |q: usize, w: usize| {
-            xx += vec[q].norm_sqr();
-            xv += vec[q].conj() * vec[w];
+        let mut pair = |x: c64, v: c64| {
+            xx += x.norm_sqr();
+            xv += x.conj() * v;
         };
         for i in 0..n {
-            pair(lin0.body(i, 0), lin0.body(i, 3));
-            pair(lin0.body(i, 1), lin0.body(i, 4));
+            pair(vec[lin0.body(i, 0)], vec[lin0.body(i, 3)]);
+            pair(vec[lin0.body(i, 1)], vec[lin0.body(i, 4)]);
         }
         for (j, p) in lin0.pulleys.iter().enumerate() {
+            let (a, w) = lin0.pulley(j);
             if !p.speed_driven {
-                let (a, w) = lin0.pulley(j);
-                pair(a, w);
+                pair(vec[a], vec[w]);
+            }
+            if p.arm.is_some() {
+                let arm = lin0.states.arm(j);
+                pair(vec[arm.angle], vec[arm.rate]);
+            }
+            if p.decoupler.is_some() {
+                let d = lin0.states.decoupler(j);
+                let pulley_speed = if p.speed_driven {
+                    c64::new(0.0, 0.0)
+                } else {
+                    vec[w]
+                };
+                pair(vec[d.twist], vec[d.rotor_speed] - pulley_speed);
             }
         }
         let f_own = (xv.im / xx) / TAU;

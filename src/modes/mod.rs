@@ -30,6 +30,7 @@ pub mod params;
 
 pub use floquet::{floquet, Orbit, FLOQUET_SUBSTEPS, SDIRK_GAMMA};
 
+use crate::model::params::MAX_PULLEYS;
 use adapter::Linearisation;
 use faer::linalg::solvers::Eigen;
 use faer::Mat;
@@ -46,8 +47,9 @@ pub struct Options {
     /// Natural frequencies below this count as zero modes (rigid motion) [Hz].
     pub zero_frequency_hz: f64,
     /// Angle amplitude of the tensioner arms' swing [rad] at which
-    /// [`analyse_drive`] replaces their pivot friction by its describing
-    /// function; 0 linearises the regularised friction law as it is.
+    /// [`analyse_drive`] and [`floquet()`] replace their pivot friction by
+    /// its describing function ([`describe_arms`]); 0 linearises the
+    /// regularised friction law as it is.
     pub arm_amplitude: f64,
 }
 
@@ -68,7 +70,7 @@ impl Default for Options {
 }
 
 /// A frictional tensioner arm in a describing-function analysis
-/// ([`analyse_drive`]).
+/// ([`describe_arms`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ArmSwing {
     /// The pulley the arm carries (1-based).
@@ -83,6 +85,9 @@ pub struct ArmSwing {
     /// No oscillating mode carries the arm at this amplitude: the friction
     /// overdamps it (below break-away the arm sticks).
     pub stuck: bool,
+    /// The iteration on the frequency ended within its tolerance (false:
+    /// stopped at its iteration limit, the damper at the last frequency).
+    pub converged: bool,
 }
 
 /// Share of a mode's kinetic energy in the swing of the arm carrying
@@ -97,25 +102,48 @@ fn arm_share(m: &Mode, j: usize) -> f64 {
 /// Modes of `drive` at its state now ([`adapter::linearise`] and
 /// [`analyse`]), with the pivot friction of its tensioner arms replaced by
 /// the describing function of the friction at `opts.arm_amplitude`
-/// (docs/modes.md, "Frictional tensioner arms"): a Coulomb friction of
-/// torque M_f swinging at angle amplitude A and angular frequency omega
-/// dissipates per cycle what a viscous damper c = 4 M_f / (pi omega A)
-/// does ([`crate::model::elements::Arm::friction_describing`], the
-/// regularised law's own). omega is the arm mode's damped frequency:
-/// started from the frictionless arm's, iterated until it changes by less
-/// than 1e-6 (at most 50 times); an arm whose mode the friction overdamps
-/// is reported `stuck` (the modes then those with its friction at the
-/// last frequency). Without frictional arms or with `arm_amplitude` 0:
-/// [`analyse`] of [`adapter::linearise`].
-pub fn analyse_drive(
+/// ([`describe_arms`]; the swings in [`Modes::arms`]). Without frictional
+/// arms or with `arm_amplitude` 0: [`analyse`] of [`adapter::linearise`].
+pub fn analyse_drive(drive: &crate::Drive, opts: &Options) -> Result<Modes, String> {
+    describe_arms(drive, opts, ARM_FREQUENCY_TOL, 50, |equivalent| {
+        analyse(&adapter::linearise_with(drive, equivalent), opts)
+    })
+}
+
+/// The describing-function iteration stops when the arm modes' frequencies
+/// change by less than this (relative): a few iterations about one
+/// instant, where each costs one eigen-solve.
+pub const ARM_FREQUENCY_TOL: f64 = 1e-6;
+
+/// The modes `solve` gives with the pivot friction of `drive`'s tensioner
+/// arms replaced by the describing function of the friction at
+/// `opts.arm_amplitude` (docs/modes.md, "Frictional tensioner arms"): a
+/// Coulomb friction of torque M_f swinging at angle amplitude A and
+/// angular frequency omega dissipates per cycle what a viscous damper
+/// c = 4 M_f / (pi omega A) does
+/// ([`crate::model::elements::Arm::friction_describing`], the regularised
+/// law's own), M_f at the drive's hub forces now. `solve` analyses the
+/// drive with arm j's friction replaced by a damper `equivalent[j]`
+/// ([`adapter::linearise_with`]). omega is the arm mode's damped
+/// frequency: started from the frictionless arm's (the oscillating mode
+/// with the largest share of its energy in the arm), iterated until it
+/// changes by less than `tolerance` (at most `iterations` times, then
+/// reported not `converged`); an arm whose mode
+/// the friction overdamps (no oscillating mode left with half the
+/// frictionless arm's share) is reported `stuck` (the modes then those
+/// with its friction at the last frequency). Without frictional arms or with
+/// `arm_amplitude` 0: `solve` with the friction as it is (no replacement).
+pub fn describe_arms(
     drive: &crate::Drive,
     opts: &Options,
-) -> Result<(Modes, Vec<ArmSwing>), String> {
-    use crate::model::params::MAX_PULLEYS;
+    tolerance: f64,
+    iterations: usize,
+    mut solve: impl FnMut(&[Option<f64>; MAX_PULLEYS]) -> Result<Modes, String>,
+) -> Result<Modes, String> {
     let friction = adapter::arm_friction(drive);
     let arms: Vec<usize> = (0..MAX_PULLEYS).filter(|&j| friction[j] > 0.0).collect();
     if arms.is_empty() || opts.arm_amplitude == 0.0 {
-        return Ok((analyse(&adapter::linearise(drive), opts)?, Vec::new()));
+        return solve(&[None; MAX_PULLEYS]);
     }
     let mut equivalent = [None; MAX_PULLEYS];
     for &j in &arms {
@@ -129,36 +157,47 @@ pub fn analyse_drive(
             frequency_hz: 0.0,
             equivalent_damping: 0.0,
             stuck: false,
+            converged: false,
         })
         .collect();
-    let mut modes = analyse(&adapter::linearise_with(drive, &equivalent), opts)?;
-    for _ in 0..50 {
+    let mut modes = solve(&equivalent)?;
+    // the frictionless arm's share of its mode's energy: the mode the
+    // friction's damper is set by (in steady running the arm shares its
+    // modes with the spans)
+    let mut frictionless = [0.0; MAX_PULLEYS];
+    for _ in 0..iterations {
         let mut moved: f64 = 0.0;
         for s in swings.iter_mut().filter(|s| !s.stuck) {
             let j = s.pulley - 1;
-            // the oscillating mode that swings the arm most; none carrying
-            // half its energy in the arm: overdamped, the arm sticks
+            // the oscillating mode that swings the arm most; once the
+            // friction is in, none carrying half the frictionless arm's
+            // share: overdamped, the arm sticks
             let best = modes
                 .modes
                 .iter()
                 .max_by(|a, b| arm_share(a, j).total_cmp(&arm_share(b, j)))
-                .filter(|m| arm_share(m, j) >= 0.5);
+                .filter(|m| arm_share(m, j) > 0.5 * frictionless[j]);
             let Some(m) = best else {
                 s.stuck = true;
                 continue;
             };
+            if s.frequency_hz == 0.0 {
+                frictionless[j] = arm_share(m, j);
+            }
             let f = m.damped_hz;
             moved = moved.max((f / s.frequency_hz - 1.0).abs());
             s.frequency_hz = f;
             s.equivalent_damping = adapter::arm_describing(drive, j, TAU * f * opts.arm_amplitude);
             equivalent[j] = Some(s.equivalent_damping);
         }
-        modes = analyse(&adapter::linearise_with(drive, &equivalent), opts)?;
-        if moved < 1e-6 {
+        modes = solve(&equivalent)?;
+        if moved < tolerance {
+            swings.iter_mut().for_each(|s| s.converged = true);
             break;
         }
     }
-    Ok((modes, swings))
+    modes.arms = swings;
+    Ok(modes)
 }
 
 /// What moves most in a mode (by kinetic energy).
@@ -326,6 +365,10 @@ pub struct Modes {
     pub orbit: Option<Orbit>,
     /// Degenerate pairs split into span-localised modes ([`degenerate`]).
     pub split_pairs: usize,
+    /// The frictional tensioner arms, each with the describing function
+    /// its pivot friction was replaced by ([`describe_arms`]); empty when
+    /// the friction was linearised as it is.
+    pub arms: Vec<ArmSwing>,
 }
 
 /// Where a body is: on pulley j's wrap or on span k (0-based).
