@@ -34,7 +34,6 @@ mod timing;
 use timing::cpu_time;
 
 use belt_drive::drive::Integrator;
-use belt_drive::model::elements::ARM_FRICTION_RATE;
 use belt_drive::model::params::Method;
 use belt_drive::model::state::{bodies_len, body_component, BodyComponent};
 use belt_drive::model::system::{BeltSystem, Workspace};
@@ -136,15 +135,18 @@ struct Profile {
 }
 
 /// What the tensioner arms and decouplers do over the accepted steps of the
-/// observed run: how often an arm's rate lies inside its pivot friction's
-/// band |alpha'| < w_c ([`ARM_FRICTION_RATE`]), its mean and rms rate and how
-/// often it changes sign (each a reversal of the friction torque), and
+/// observed run: how often an arm's pivot friction holds (its presliding
+/// deflection below 90 % of the presliding angle, the sliding one under
+/// the mounted hub force), its mean
+/// and rms rate and how often it changes sign, and
 /// whether a decoupler's clutch is engaged beyond its band, in it or
 /// overrunning.
 #[derive(Default)]
 struct Hardware {
     arm_steps: u64,
-    arm_in_band: u64,
+    arm_held: u64,
+    arm_deflection_sum: f64,
+    arm_deflection_max: f64,
     arm_sum: f64,
     arm_sum2: f64,
     arm_sign_changes: u64,
@@ -160,10 +162,14 @@ impl Hardware {
         let pulleys = sys.pulleys();
         self.arm_last.resize(pulleys.len(), 0.0);
         for (j, pc) in pulleys.iter().enumerate() {
-            if pc.arm.is_some() {
-                let w = y[s.arm(j).rate];
+            if let Some(arm) = &pc.arm {
+                let o = s.arm(j);
+                let w = y[o.rate];
                 self.arm_steps += 1;
-                self.arm_in_band += u64::from(w.abs() < ARM_FRICTION_RATE);
+                let u = y[o.deflection].abs() / arm.presliding_angle;
+                self.arm_held += u64::from(u < 0.9);
+                self.arm_deflection_sum += u;
+                self.arm_deflection_max = self.arm_deflection_max.max(u);
                 self.arm_sum += w;
                 self.arm_sum2 += w * w;
                 self.arm_sign_changes += u64::from(w * self.arm_last[j] < 0.0);
@@ -186,10 +192,12 @@ impl Hardware {
         if self.arm_steps > 0 {
             let n = self.arm_steps as f64;
             println!(
-                "  tensioner arm over the accepted steps: rate inside the pivot friction's band \
-                 (|rate| < {ARM_FRICTION_RATE} rad/s) on {:.1} %, mean {:.2e} rad/s, rms {:.2e} rad/s, \
-                 {:.0} sign changes per simulated s",
-                100.0 * self.arm_in_band as f64 / n,
+                "  tensioner arm over the accepted steps: pivot friction holding (presliding) \
+                 on {:.1} %, deflection over the presliding angle mean {:.2} max {:.2}, mean rate \
+                 {:.2e} rad/s, rms {:.2e} rad/s, {:.0} sign changes per simulated s",
+                100.0 * self.arm_held as f64 / n,
+                self.arm_deflection_sum / n,
+                self.arm_deflection_max,
                 self.arm_sum / n,
                 (self.arm_sum2 / n).sqrt(),
                 self.arm_sign_changes as f64 / WINDOW

@@ -958,8 +958,9 @@ fn arm_mode_is_the_closed_forms() {
 /// c as 1 / omega_d, so the closed form's 0.7 % on the frequency enters
 /// twice, and the belt's own damping of the arm mode (its contacts'
 /// dampers; `arm_mode_is_the_closed_forms` has no damper) is printed. The
-/// regularised law linearised as it is overdamps the arm (no arm mode),
-/// and at a swing of 1e-4 rad the friction sticks the arm.
+/// law linearised as it is holds the arm on its presliding stiffness (a
+/// stiff, heavily damped arm mode, against its closed form), and at a
+/// swing of 1e-4 rad the friction sticks the arm.
 #[test]
 fn frictional_arm_mode_is_the_describing_functions_closed_form() {
     use belt_drive::modes::{analyse_drive, ARM_AMPLITUDE};
@@ -978,12 +979,22 @@ fn frictional_arm_mode_is_the_describing_functions_closed_form() {
     let hub = drive.clone().outputs().pulleys[j].hub_force;
     let m_f = 1.0 + 0.3 * 0.015 * hub[0].hypot(hub[1]);
     let w_n = (k_alpha / inertia).sqrt();
+    // the law's describing function (its presliding adds to Coulomb's
+    // 4 M_f / (pi omega A); `friction_describing_is_the_laws_loop` checks
+    // it against the law)
+    let law = drive.system().pulleys()[j].arm.unwrap();
     let (mut zeta, mut w_d) = (0.0, w_n);
     for _ in 0..100 {
-        let c = 4.0 * m_f / (std::f64::consts::PI * w_d * ARM_AMPLITUDE);
+        let c = law.friction_describing(m_f, ARM_AMPLITUDE, w_d);
         zeta = c / (2.0 * (k_alpha * inertia).sqrt());
         w_d = w_n * (1.0 - zeta * zeta).sqrt();
     }
+    let coulomb = 4.0 * m_f / (std::f64::consts::PI * w_d * ARM_AMPLITUDE);
+    println!(
+        "describing function {:.4} N m s/rad, Coulomb's {coulomb:.4} ({:+.1} %)",
+        law.friction_describing(m_f, ARM_AMPLITUDE, w_d),
+        100.0 * (law.friction_describing(m_f, ARM_AMPLITUDE, w_d) / coulomb - 1.0)
+    );
     let m = analyse_drive(&drive, &Options::default()).expect("eigen-solve");
     let swings = &m.arms;
     println!("{swings:?}");
@@ -1024,20 +1035,32 @@ fn frictional_arm_mode_is_the_describing_functions_closed_form() {
     );
     assert!(err_f.abs() < 0.05, "{err_f:+.4}");
     assert!(err_z.abs() < 0.05, "{err_z:+.4}");
-    // the law as it is: its slope at rest, 1.5 M_f / 0.01 rad/s, overdamps
-    // the arm
+    // the law as it is: at rest the deflection is elastic, and the arm
+    // swings on the belt and the presliding stiffness k_p = M_f / 2e-4 rad
+    // together, damped by c_p = 2 sqrt(k_p I): omega_n = sqrt((K_alpha +
+    // k_p) / I), zeta = c_p / (2 sqrt((K_alpha + k_p) I)), within 5 % as
+    // the frictionless arm's mode
     let as_is = Options {
         arm_amplitude: 0.0,
         ..Options::default()
     };
     let m0 = analyse_drive(&drive, &as_is).expect("eigen-solve");
     assert!(m0.arms.is_empty());
-    assert!(
-        of(&m0, Part::Arm(3)).is_empty(),
-        "{:?}",
-        of(&m0, Part::Arm(3))
+    let held = of(&m0, Part::Arm(3));
+    assert_eq!(held.len(), 1, "{held:?}");
+    let k_total = k_alpha + law.presliding_stiffness;
+    let (f_held, z_held) = (
+        (k_total / inertia).sqrt() / std::f64::consts::TAU,
+        law.presliding_damping / (2.0 * (k_total * inertia).sqrt()),
     );
-    // a swing of 1e-4 rad: c_eq ~ 4 M_f / (pi omega 1e-4), zeta ~ 10
+    println!(
+        "friction as it is: arm 3 {:.3} Hz, zeta {:.4}; closed form {f_held:.3} Hz, zeta {z_held:.4}",
+        held[0].frequency_hz, held[0].damping_ratio
+    );
+    assert!((held[0].frequency_hz / f_held - 1.0).abs() < 0.05);
+    assert!((held[0].damping_ratio / z_held - 1.0).abs() < 0.05);
+    // a swing of 1e-4 rad, within the breakaway deflection: c_eq = c_p =
+    // 2 sqrt(k_p I), zeta = sqrt(k_p / K_alpha) >> 1
     let tiny = Options {
         arm_amplitude: 1e-4,
         ..Options::default()
@@ -1057,15 +1080,17 @@ fn frictional_arm_mode_is_the_describing_functions_closed_form() {
 /// the drive at rest carried along, so the mode that swings the arm most
 /// must lie at the frequency of the arm mode at rest (same describing
 /// function, same swing) within 5 %: in the running analysis the arm
-/// shares that mode with the spans (about half its energy; docs/modes.md,
-/// "Frictional tensioner arms"), which moves it by a few per cent. Its
-/// damping ratio is printed, not asserted (the shared mode's is not the
-/// arm's). Each describing function must be the closed form 4 M_f /
-/// (pi omega A) at the damped frequency of the mode it was taken from,
-/// within the iteration's tolerance. The friction linearised as it is
-/// (`arm_amplitude` 0) overdamps the arm: no oscillating mode carries a
-/// tenth of its energy in the arm, where the describing function gives one
-/// with more than a third.
+/// shares that mode with span 1, whose transverse mode lies close to it
+/// (a third to a half of its energy in the arm; docs/modes.md, "Frictional
+/// tensioner arms"), which moves it by a few per cent: a quarter at least.
+/// Its damping ratio is printed, not asserted (the shared mode's is not the
+/// arm's). Each describing function must be the law's
+/// (`Arm::friction_describing`) at the damped frequency of the mode it was
+/// taken from, within the iteration's tolerance. The friction linearised as
+/// it is (`arm_amplitude` 0) holds the arm on its presliding stiffness, at
+/// rest and running: its mode, mostly in the arm, lies at over twice the
+/// swinging arm's frequency and is heavily damped (zeta > 0.5; the closed
+/// form at rest: `frictional_arm_mode_is_the_describing_functions_closed_form`).
 #[test]
 fn running_frictional_arm_mode_is_the_one_at_rest() {
     use belt_drive::modes::analyse_drive;
@@ -1099,7 +1124,9 @@ fn running_frictional_arm_mode_is_the_one_at_rest() {
             .clone()
     };
     let opts = Options::default();
-    let rest = analyse_drive(&adapter::build(&p).expect("valid drive"), &opts).expect("modes");
+    let built = adapter::build(&p).expect("valid drive");
+    let law = built.system().pulleys()[j].arm.unwrap();
+    let rest = analyse_drive(&built, &opts).expect("modes");
     let r = floquet_after_run_up_settling(&p, 0.3, PERIODIC, floquet::SETTLE_CYCLES, &opts);
     let (a0, a1) = (arm_mode(&rest), arm_mode(&r.modes));
     let err_f = a1.frequency_hz / a0.frequency_hz - 1.0;
@@ -1125,15 +1152,18 @@ fn running_frictional_arm_mode_is_the_one_at_rest() {
         let s = m.arms[0];
         assert!(!s.stuck && s.converged, "{s:?}");
         let f = arm_mode(m).damped_hz;
-        let c = 4.0 * s.friction_torque
-            / (std::f64::consts::PI * std::f64::consts::TAU * f * opts.arm_amplitude);
+        let c = law.friction_describing(
+            s.friction_torque,
+            opts.arm_amplitude,
+            std::f64::consts::TAU * f,
+        );
         assert!(
             (s.equivalent_damping / c - 1.0).abs() < 2.0 * tol.max(1e-4),
             "{} against {c}",
             s.equivalent_damping
         );
     }
-    assert!(arm_share(&a1) > 1.0 / 3.0, "{:.3}", arm_share(&a1));
+    assert!(arm_share(&a1) > 0.25, "{:.3}", arm_share(&a1));
     assert!(err_f.abs() < 0.05, "{err_f:+.4}");
     let as_is = Options {
         arm_amplitude: 0.0,
@@ -1148,13 +1178,22 @@ fn running_frictional_arm_mode_is_the_one_at_rest() {
     .expect("floquet");
     assert!(m0.arms.is_empty());
     let held = arm_mode(&m0);
+    let rest_held = arm_mode(&analyse_drive(&built, &as_is).expect("modes"));
     println!(
-        "friction as it is: most arm energy in {:.3} Hz, {:.1} % ({})",
+        "friction as it is: most arm energy in {:.3} Hz, zeta {:.3}, {:.1} % ({}); at rest {:.3} Hz, \
+         zeta {:.3}, {:.1} %",
         held.frequency_hz,
+        held.damping_ratio,
         100.0 * arm_share(&held),
-        held.describe()
+        held.describe(),
+        rest_held.frequency_hz,
+        rest_held.damping_ratio,
+        100.0 * arm_share(&rest_held)
     );
-    assert!(arm_share(&held) < 0.1, "{:.3}", arm_share(&held));
+    for h in [&held, &rest_held] {
+        assert!(arm_share(h) > 0.5, "{:.3}", arm_share(h));
+        assert!(h.frequency_hz > 2.0 * a1.frequency_hz && h.damping_ratio > 0.5);
+    }
 }
 
 /// The accessory drive with its tensioner (parameters/accessory-drive-

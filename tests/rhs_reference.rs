@@ -20,7 +20,6 @@
 //! magnitude larger than either.
 
 use belt_drive::model::elements::Law;
-use belt_drive::model::elements::ARM_FRICTION_RATE as FRICTION_RATE;
 use belt_drive::model::params::{PulleyParams, TensionerArm, MAX_PULLEYS};
 use belt_drive::model::simd::Isa;
 use belt_drive::model::state::{body, BodyIndex};
@@ -396,9 +395,9 @@ fn reference_rhs<R: Recorder>(
         mag[q.hub_force[1]] = hub_mag[j];
     }
     // Tensioner arms: I alpha'' = (c - pivot) x F_hub - k (alpha - alpha_free)
-    // - d alpha' - (M_c + mu_h r_f |F_hub|) S(alpha' / w_c), S(u) = u (3 -
-    // u^2) / 2 saturated (the constant pivot friction and the hub-load
-    // friction, docs/model.md).
+    // - d alpha' - k_p z - (1 - beta) c_p z', with the pivot friction's presliding deflection
+    // z' = alpha' - beta |alpha'| k_p z / M_f, M_f = M_c + mu_h r_f |F_hub|
+    // (the elasto-plastic presliding law, docs/model.md).
     for (j, c) in centre.iter().enumerate().take(np) {
         let pc = &s.pulleys()[j];
         let Some(arm) = &pc.arm else { continue };
@@ -409,23 +408,40 @@ fn reference_rhs<R: Recorder>(
         if s.relaxation().pulleys_held {
             dy[o.rate] = 0.0;
             mag[o.rate] = 0.0;
+            dy[o.deflection] = 0.0;
+            mag[o.deflection] = 0.0;
             continue;
         }
         let (lx, ly) = (c[0] - arm.pivot[0], c[1] - arm.pivot[1]);
         let moment = lx * hub[j][1] - ly * hub[j][0];
         let spring = -arm.stiffness * (a - arm.free_angle);
         let damper = arm.damping * w;
-        let u = (w / FRICTION_RATE).clamp(-1.0, 1.0);
-        let s_u = 0.5 * u * (3.0 - u * u);
-        let friction = (arm.friction + arm.hub_friction * hub[j][0].hypot(hub[j][1])) * s_u;
+        let z = y[o.deflection];
+        let kz = arm.presliding_stiffness * z;
+        let m_f = arm.friction + arm.hub_friction * hub[j][0].hypot(hub[j][1]);
+        let (friction, z_rate) = if arm.presliding_stiffness == 0.0 || m_f == 0.0 {
+            (0.0, 0.0)
+        } else {
+            // elasto-plastic: beta = 0 while unloading or below half the
+            // sliding deflection, a half sine wave up to it, 1 beyond
+            let u = (kz / m_f).abs();
+            let beta = if w * z <= 0.0 || u <= 0.5 {
+                0.0
+            } else if u >= 1.0 {
+                1.0
+            } else {
+                0.5 + 0.5 * (std::f64::consts::PI / 0.5 * (u - 0.75)).sin()
+            };
+            let z_rate = w - w.abs() * beta * kz / m_f;
+            (kz + (1.0 - beta) * arm.presliding_damping * z_rate, z_rate)
+        };
         dy[o.rate] = (moment + spring - damper - friction) / arm.inertia;
-        mag[o.rate] = (arm.length * hub_mag[j]
-            + spring.abs()
-            + damper.abs()
-            + (arm.friction + arm.hub_friction * hub_mag[j]) * s_u.abs())
-            / arm.inertia;
-        p_diss += (damper + friction) * w;
-        p_diss_mag += (damper * w).abs() + (friction * w).abs();
+        mag[o.rate] =
+            (arm.length * hub_mag[j] + spring.abs() + damper.abs() + friction.abs()) / arm.inertia;
+        dy[o.deflection] = z_rate;
+        mag[o.deflection] = w.abs() * 2.0;
+        p_diss += damper * w + friction * w - kz * z_rate;
+        p_diss_mag += (damper * w).abs() + (friction * w).abs() + (friction * z_rate).abs();
     }
     let e = s.state_layout().energy();
     dy[e.work_in] = p_in;

@@ -708,36 +708,67 @@ fn slide(constant: f64, coefficient: f64, rate: f64) -> (DriveParams, Vec<SlideS
 /// per step at the step's mid angle (trapezoid) with the step's exact mean
 /// hub force (both linear in the force; the lever and the spring vary
 /// by ~1e-6 of themselves within a 0.1 ms step). The closed form is
-/// -(M_c + mu_h r_f |F_hub|) sgn(alpha') per step, averaged.
-/// Returns (measured, closed form, mean |F_hub|, smallest |alpha'|).
+/// -M_f sgn(alpha') per step, averaged, with M_f = M_c + mu_h r_f |F_hub|
+/// taken where the arm was a sliding deflection M_f / k_p ago (the
+/// presliding law's lag: its deflection follows M_f / k_p over that slip,
+/// so to first order the torque is M_f(alpha - sgn(alpha') M_f / k_p)).
+/// Returns (measured, closed form, mean |F_hub|, smallest |alpha'|, the
+/// lag's share of the closed form).
 fn slide_friction(
     p: &DriveParams,
     window: &[SlideStep],
     constant: f64,
     coefficient: f64,
-) -> [f64; 4] {
+) -> [f64; 5] {
     let j = 2;
     let arm = p.pulleys[j].arm.unwrap();
     let n = window.len() as f64;
     let first = window.first().unwrap();
     let last = window.last().unwrap();
     let span = last.t - first.t + 1e-4;
+    // the friction torque scale M_f against the arm angle over the window:
+    // its slope by least squares (it changes nearly linearly in a slide)
+    let m_f = |s: &SlideStep| constant + coefficient * 0.015 * s.hub_force[0].hypot(s.hub_force[1]);
+    let mid = |s: &SlideStep| 0.5 * (s.angle[0] + s.angle[1]);
+    let (ma, mm) = (
+        window.iter().map(mid).sum::<f64>() / n,
+        window.iter().map(m_f).sum::<f64>() / n,
+    );
+    let slope = window
+        .iter()
+        .map(|s| (mid(s) - ma) * (m_f(s) - mm))
+        .sum::<f64>()
+        / window.iter().map(|s| (mid(s) - ma).powi(2)).sum::<f64>();
+    let k_p = drive(p).system().pulleys()[j]
+        .arm
+        .unwrap()
+        .presliding_stiffness;
     let mut rest = 0.0;
     let mut closed = 0.0;
+    let mut lag = 0.0;
     let mut force = 0.0;
     let mut slowest = f64::INFINITY;
     for s in window {
-        let mid = 0.5 * (s.angle[0] + s.angle[1]);
         let f = s.hub_force[0].hypot(s.hub_force[1]);
-        rest += hub_moment_at(p, j, mid, s.hub_force) - arm.stiffness * (mid - s.free);
+        rest += hub_moment_at(p, j, mid(s), s.hub_force) - arm.stiffness * (mid(s) - s.free);
         let sign = (s.rate[0] + s.rate[1]).signum();
-        closed += -(constant + coefficient * 0.015 * f) * sign;
+        // sliding, the deflection sits at M_f / k_p behind the arm: the
+        // torque is M_f where the arm was that deflection ago
+        let behind = slope * m_f(s) / k_p * sign;
+        closed += -(m_f(s) - behind) * sign;
+        lag += behind * sign;
         force += f;
         slowest = slowest.min(s.rate[0].abs()).min(s.rate[1].abs());
     }
     let inertia = arm.inertia * (last.rate[1] - first.rate[0]) / span;
     let damper = -arm.damping * (last.angle[1] - first.angle[0]) / span;
-    [inertia - rest / n - damper, closed / n, force / n, slowest]
+    [
+        inertia - rest / n - damper,
+        closed / n,
+        force / n,
+        slowest,
+        lag / n,
+    ]
 }
 
 /// Hub-load (asymmetric) damping in a quasi-static slide: over three
@@ -755,7 +786,7 @@ fn hub_load_friction_in_a_quasi_static_slide() {
     for (constant, coefficient) in [(0.0, 0.3), (0.5, 0.0), (0.5, 0.3)] {
         for rate in [2.0, -2.0] {
             let (p, steps) = slide(constant, coefficient, rate);
-            let windows: Vec<[f64; 4]> = [0.09, 0.11, 0.13]
+            let windows: Vec<[f64; 5]> = [0.09, 0.11, 0.13]
                 .iter()
                 .map(|&t0| {
                     let w: Vec<SlideStep> = steps
@@ -766,38 +797,43 @@ fn hub_load_friction_in_a_quasi_static_slide() {
                     slide_friction(&p, &w, constant, coefficient)
                 })
                 .collect();
-            for [measured, closed, force, slowest] in &windows {
+            for [measured, closed, force, slowest, lag] in &windows {
                 println!(
                     "M_c {constant} N m, mu_h {coefficient}, winding {rate} rad/s: |F_hub| \
                      {force:.1} N, |alpha'| >= {slowest:.4} rad/s, friction {measured:.5} N m, \
-                     closed form {closed:.5} N m ({:+.1e})",
-                    measured / closed - 1.0
+                     closed form {closed:.5} N m ({:+.1e}; the lag {:+.1e} of it)",
+                    measured / closed - 1.0,
+                    lag / closed
                 );
-                // sliding one way throughout, beyond the 0.01 rad/s ramp
-                // where the law is the full Coulomb torque
+                // sliding one way throughout
                 assert!(*slowest > 0.02, "{slowest}");
-                // 1e-5: the closed form is exact while sliding; what is
-                // left is the per-step trapezoid of the lever and the
-                // spring and the product of the hub force's and the arm
-                // angle's ripple within a 0.1 ms step (the angle moves
-                // by ~5e-6 rad in a step: ~1e-6 of the moment), and the
-                // integration error at relTol 1e-6 (measured: 1e-7)
+                // 1e-5: the per-step trapezoid of the lever and the
+                // spring, the product of the hub force's and the arm
+                // angle's ripple within a 0.1 ms step (the angle moves by
+                // ~5e-6 rad in a step: ~1e-6 of the moment) and the
+                // integration error at relTol 1e-6 (1e-7); plus a fifth of
+                // the lag: the first-order lag leaves out that the slip
+                // sets in over the breakaway range, where the deflection
+                // closes on M_f / k_p faster (its shortfall 1 - u closes
+                // at (1 - beta u), beta ~ 1 - 20 (1 - u)^2 near u = 1)
                 assert!(
-                    (measured / closed - 1.0).abs() < 1e-5,
-                    "friction {measured} vs {closed} N m"
+                    (measured - closed).abs() < 1e-5 * closed.abs() + 0.2 * lag.abs(),
+                    "friction {measured} vs {closed} N m (lag {lag})"
                 );
             }
             if coefficient > 0.0 {
                 // the friction follows the hub force: between the first
                 // and the last window it changes by mu_h r_f dF (> 5 % of
-                // itself), and the measurement sees that change
+                // itself), and the measurement sees that change as the
+                // closed form has it, within 1e-3 of it and a fifth of the
+                // two windows' lags (as above)
                 let (a, b) = (windows[0], windows[2]);
                 let change = coefficient * 0.015 * (b[2] - a[2]);
                 assert!(change.abs() > 0.05 * a[1].abs(), "{change}");
+                let (seen, closed) = (b[0] - a[0], b[1] - a[1]);
                 assert!(
-                    ((b[0] - a[0]).abs() - change.abs()).abs() < 1e-3 * change.abs(),
-                    "{} vs {change}",
-                    b[0] - a[0]
+                    (seen - closed).abs() < 1e-3 * change.abs() + 0.2 * (a[4].abs() + b[4].abs()),
+                    "{seen} vs {closed} ({change} without the lag)"
                 );
             }
         }

@@ -238,7 +238,8 @@ fn fnv1a_64(bytes: &[u8]) -> u64 {
     })
 }
 
-/// A state written by the previous snapshot version (6: six pulley slots and
+/// A state written by the previous snapshot version (8: two states per
+/// tensioner arm, no pivot friction deflection; 6: six pulley slots and
 /// no arm stops among the parameters; 5 no interval outputs in the integrator
 /// data; 4 no first stage of the stiff method; 3 had no impulse states behind
 /// the mean force outputs, 2 no tensioner free angles either) is refused
@@ -258,16 +259,16 @@ fn a_state_of_the_previous_version_is_refused() {
     let model = 16 + guid_len + 1 + 8 + 9 + 8;
     assert_eq!(
         u32::from_le_bytes(bytes[model..model + 4].try_into().unwrap()),
-        8
+        9
     );
-    bytes[model..model + 4].copy_from_slice(&7u32.to_le_bytes());
+    bytes[model..model + 4].copy_from_slice(&8u32.to_le_bytes());
     let n = bytes.len() - 8;
     let sum = fnv1a_64(&bytes[..n]);
     bytes[n..].copy_from_slice(&sum.to_le_bytes());
     let (status, _) = a.deserialize(&bytes);
     assert_eq!(status, ERROR);
     assert!(
-        a.logged(ERROR, "model state version 7 is not supported (expected 8)"),
+        a.logged(ERROR, "model state version 8 is not supported (expected 9)"),
         "{:?}",
         a.log.borrow()
     );

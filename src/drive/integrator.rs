@@ -91,7 +91,8 @@ impl StiffSystem for BeltSystem {
     /// 1e-3 (not left out altogether, so a step that goes unstable in them is
     /// still rejected). The body velocities' weight depends on whether the
     /// friction law follows the sliding velocity
-    /// (`SolverTuning::velocity_error_weight`).
+    /// (`SolverTuning::velocity_error_weight`); the tensioner arms' rates
+    /// take the same.
     fn error_mask(&self, rel_tol: f64, mask: &mut [f64]) {
         const ANGLES: f64 = TUNING.weight_angles;
         mask.fill(1.0);
@@ -103,6 +104,15 @@ impl StiffSystem for BeltSystem {
             mask[b.spin] = ANGLES;
             mask[b.vx] = velocities;
             mask[b.vy] = velocities;
+        }
+        // a tensioner arm's rate: like the bodies' velocities, it carries
+        // the arm's response to the body-passing ripple; the arm's angle
+        // and its pivot friction's deflection (whose presliding law the
+        // friction follows, not the rate) keep weight 1
+        for j in 0..self.np {
+            if self.pulleys[j].arm.is_some() {
+                mask[self.state_layout.arm(j).rate] = velocities;
+            }
         }
         // the impulses are outputs only
         mask[self.controlled_dim()..].fill(0.0);

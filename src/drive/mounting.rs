@@ -100,7 +100,8 @@ impl Recorder for HubRecorder {
 /// equilibrium (`y`, arms at their mounted positions), each arm's spring
 /// gets the free angle at which its torque balances the moment of the
 /// belt's hub force about the pivot, `-k (0 - alpha_free) + M_hub = 0`
-/// (`elements::tensioner::Arm::free_angle_for`).
+/// (`elements::tensioner::Arm::free_angle_for`); the pivot friction's
+/// deflection starts at zero (it carries nothing at mounting).
 pub(super) fn mount_arms(sys: &mut BeltSystem, ws: &mut Workspace, t: f64, y: &[f64]) {
     if sys.state_layout.n_arms() == 0 {
         return;

@@ -18,8 +18,10 @@ use crate::solver::rkf45::Stats;
 /// 7: eight pulley slots and the tensioner arms' end stops among the
 /// parameters;
 /// 8: the integrator's step past the communication point (look-ahead) at
-/// the start of the integrator data.
-pub(super) const VERSION: u32 = 8;
+/// the start of the integrator data;
+/// 9: a third state per tensioner arm (its pivot friction's presliding
+/// deflection) and the arms' presliding angle among the parameters.
+pub(super) const VERSION: u32 = 9;
 
 struct Writer<'a>(&'a mut Vec<u8>);
 impl Writer<'_> {
@@ -259,8 +261,9 @@ mod tests {
         // flags, and after these 5 ms the step taken past the last point
         // (its start, step size and end, the checkpoint's length and
         // RKF45's 3 numbers, y_a, f_a, y_b, f_b: 4 * 434): 16 + 8 * 1743
-        // bytes more than version 7's 4276
-        assert_eq!((VERSION, unbuilt, rkf45), (8, 308, 18236));
+        // bytes more than version 7's 4276; version 9 changes only drives
+        // with tensioner arms (a third state per arm)
+        assert_eq!((VERSION, unbuilt, rkf45), (9, 308, 18236));
         // the stiff method's data hold the first stage kept from the last
         // step's end (marker, time, the point's fingerprint in 2, the 434
         // right-hand-side values, the energy balance's 3: 441 numbers) and

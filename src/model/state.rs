@@ -2,7 +2,8 @@
 //! components: a belt body's block (its position, angle, velocity, spin
 //! and creep displacement: [`body`], [`body_mut`], [`BodyIndex`]) and where
 //! every other state sits ([`StateLayout`]: a pulley's angle and speed, a
-//! decoupler's twist and rotor speed, a tensioner arm's angle and rate, the
+//! decoupler's twist and rotor speed, a tensioner arm's angle, rate and pivot
+//! friction deflection, the
 //! energy accumulators, the impulses).
 //!
 //! The order (one contiguous `f64` vector, bodies first so that the
@@ -13,7 +14,8 @@
 //! * per pulley with a decoupler, in pulley order: `[twist, rotor omega]`
 //!   (`elements::decoupler`);
 //! * per pulley on a tensioner arm, in pulley order: `[arm angle, arm
-//!   rate]` (`elements::tensioner`); the pulley's centre moves with the arm;
+//!   rate, presliding deflection of the pivot friction]`
+//!   (`elements::tensioner`); the pulley's centre moves with the arm;
 //! * per pulley: the impulses `[belt torque, drive torque, hub force x, hub
 //!   force y]` integrated since the start of the current communication
 //!   step (quadrature states: they feed nothing back and are left out of
@@ -21,6 +23,10 @@
 
 use crate::model::params::MAX_PULLEYS;
 use crate::model::system::{BODY_DOF, IMPULSES};
+
+/// States per tensioner arm: angle, rate, the pivot friction's presliding
+/// deflection.
+pub const ARM_STATES: usize = 3;
 
 /// The components of a body's block, in their order in the state vector.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -140,6 +146,9 @@ pub struct ArmIndex {
     pub angle: usize,
     /// Arm rate [rad/s].
     pub rate: usize,
+    /// Presliding deflection of the pivot friction z [rad]
+    /// (`elements::tensioner`).
+    pub deflection: usize,
 }
 
 /// Where the energy accumulators sit in the state vector.
@@ -199,7 +208,7 @@ impl StateLayout {
         let (mut k_dec, mut k_arm) = (0, 0);
         for (j, &(has_dec, has_arm)) in hardware.iter().enumerate() {
             decoupler[j] = extra + 2 * k_dec;
-            arm[j] = extra + 2 * n_decouplers + 2 * k_arm;
+            arm[j] = extra + 2 * n_decouplers + ARM_STATES * k_arm;
             k_dec += usize::from(has_dec);
             k_arm += usize::from(has_arm);
         }
@@ -264,6 +273,7 @@ impl StateLayout {
         ArmIndex {
             angle: o,
             rate: o + 1,
+            deflection: o + 2,
         }
     }
 
@@ -282,7 +292,7 @@ impl StateLayout {
     /// impulses at the end, which feed nothing back.
     #[inline(always)]
     pub const fn controlled_len(&self) -> usize {
-        BODY_DOF * self.n + 2 * self.np + 2 + 2 * self.n_decouplers + 2 * self.n_arms
+        BODY_DOF * self.n + 2 * self.np + 2 + 2 * self.n_decouplers + ARM_STATES * self.n_arms
     }
 
     /// Length of the state vector.
@@ -426,12 +436,13 @@ mod tests {
         assert_eq!(p, (21..27).collect::<Vec<_>>());
         assert_eq!((s.energy().work_in, s.energy().dissipated), (27, 28));
         assert_eq!((s.decoupler(1).twist, s.decoupler(1).rotor_speed), (29, 30));
-        assert_eq!((s.arm(0).angle, s.arm(0).rate), (31, 32));
-        assert_eq!((s.arm(2).angle, s.arm(2).rate), (33, 34));
-        assert_eq!(s.controlled_len(), 35);
-        assert_eq!(s.impulses(0).range(), 35..39);
-        assert_eq!(s.impulses(2).hub_force, [45, 46]);
-        assert_eq!(s.dim(), 47);
+        let arm = |j: usize| (s.arm(j).angle, s.arm(j).rate, s.arm(j).deflection);
+        assert_eq!(arm(0), (31, 32, 33));
+        assert_eq!(arm(2), (34, 35, 36));
+        assert_eq!(s.controlled_len(), 37);
+        assert_eq!(s.impulses(0).range(), 37..41);
+        assert_eq!(s.impulses(2).hub_force, [47, 48]);
+        assert_eq!(s.dim(), 49);
         assert_eq!((s.n_decouplers(), s.n_arms()), (1, 2));
     }
 }

@@ -155,22 +155,25 @@ pub fn arm_friction(drive: &Drive) -> [f64; MAX_PULLEYS] {
 
 /// The equivalent viscous damping [N m s/rad] of the pivot friction of
 /// the arm carrying pulley `j` (0-based) at the drive's state now, for an
-/// arm rate swinging with amplitude `rate_amplitude` [rad/s]
+/// arm swinging with angle amplitude `amplitude` [rad] at `omega` [rad/s]
 /// ([`Arm::friction_describing`]); 0 without an arm.
-pub fn arm_describing(drive: &Drive, j: usize, rate_amplitude: f64) -> f64 {
+pub fn arm_describing(drive: &Drive, j: usize, amplitude: f64, omega: f64) -> f64 {
     let hub = drive.clone().outputs().pulleys[j].hub_force;
     drive.system().pulleys()[j]
         .arm
         .as_ref()
-        .map_or(0.0, |a: &Arm| a.friction_describing(hub, rate_amplitude))
+        .map_or(0.0, |a: &Arm| {
+            a.friction_describing(a.friction_torque(hub), amplitude, omega)
+        })
 }
 
 /// [`linearise`] with the pivot friction of arm j (constant and hub-load)
 /// replaced, where `equivalent[j]` is given, by a viscous damper of that
 /// rate [N m s/rad] (the describing function of the friction at an
 /// amplitude of the arm's swing, `modes::describing`): the Jacobian is
-/// taken with the arm's friction off (the regularised law's slope and its
-/// hub-force couplings gone) and -c / I_arm added to the arm's
+/// taken with the arm's friction off (its presliding stiffness gone, the
+/// deflection left standing, a zero eigenvalue apart from the rest) and
+/// -c / I_arm added to the arm's
 /// acceleration by its rate. Nothing else depends on the pivot friction.
 pub fn linearise_with(drive: &Drive, equivalent: &[Option<f64>; MAX_PULLEYS]) -> Linearisation {
     let sys = drive.system();

@@ -49,7 +49,7 @@ pub struct Options {
     /// Angle amplitude of the tensioner arms' swing [rad] at which
     /// [`analyse_drive`] and [`floquet()`] replace their pivot friction by
     /// its describing function ([`describe_arms`]); 0 linearises the
-    /// regularised friction law as it is.
+    /// friction law as it is (the arm held on its presliding stiffness).
     pub arm_amplitude: f64,
 }
 
@@ -121,8 +121,9 @@ pub const ARM_FREQUENCY_TOL: f64 = 1e-6;
 /// Coulomb friction of torque M_f swinging at angle amplitude A and
 /// angular frequency omega dissipates per cycle what a viscous damper
 /// c = 4 M_f / (pi omega A) does
-/// ([`crate::model::elements::Arm::friction_describing`], the regularised
-/// law's own), M_f at the drive's hub forces now. `solve` analyses the
+/// ([`crate::model::elements::Arm::friction_describing`], the presliding
+/// law's own, which tends to it for swings far beyond the presliding
+/// deflection), M_f at the drive's hub forces now. `solve` analyses the
 /// drive with arm j's friction replaced by a damper `equivalent[j]`
 /// ([`adapter::linearise_with`]). omega is the arm mode's damped
 /// frequency: started from the frictionless arm's (the oscillating mode
@@ -187,7 +188,7 @@ pub fn describe_arms(
             let f = m.damped_hz;
             moved = moved.max((f / s.frequency_hz - 1.0).abs());
             s.frequency_hz = f;
-            s.equivalent_damping = adapter::arm_describing(drive, j, TAU * f * opts.arm_amplitude);
+            s.equivalent_damping = adapter::arm_describing(drive, j, opts.arm_amplitude, TAU * f);
             equivalent[j] = Some(s.equivalent_damping);
         }
         modes = solve(&equivalent)?;

@@ -120,7 +120,7 @@ pub struct SolverTuning {
     /// the first's at the same step size (docs/benchmarks.md), and on the
     /// accessory drives the energy check rejected 35-45 % of the trials
     /// (`cargo run --profile ci --example step_profile`); with a fresh one,
-    /// 0.4-1.7 % (18 % on the tensioner set, whose arm then sets the step),
+    /// 0.4-1.7 % (0-0.5 % on the tensioner set),
     /// and 1.7-2.1 times fewer trials for about as many Jacobians and fewer
     /// factorizations.
     pub jacobian_max_age: u32,

@@ -130,7 +130,7 @@ pub static REGISTRY: &[Item] = &[
     Item::One(param("solver.absTol", Vr::Fixed(25), Ty::Real("AbsoluteTolerance"), &["1e-6"])
         .above("0")
         .id("SolverAbsTol", "absolute tolerance")
-        .about("Absolute error tolerance of the integrator, no single unit: each state's local error is compared with absTol + relTol*|state| in that state's own SI unit: body positions and creep displacements in m, body, pulley, decoupler and tensioner-arm angles in rad, body velocities in m/s, body spins, pulley, rotor and arm speeds in rad/s, the work and dissipated energy in J (the impulses behind the mean-force outputs are not error-controlled). RKF45 weighs all states alike; the stiff method (solver.method = 2) counts the errors of body angles and spins 1000 times, and with the creep law of body velocities 100 times, looser (they carry the bodies' artificial modes)")),
+        .about("Absolute error tolerance of the integrator, no single unit: each state's local error is compared with absTol + relTol*|state| in that state's own SI unit: body positions and creep displacements in m, body, pulley, decoupler and tensioner-arm angles and pivot friction deflections in rad, body velocities in m/s, body spins, pulley, rotor and arm speeds in rad/s, the work and dissipated energy in J (the impulses behind the mean-force outputs are not error-controlled). RKF45 weighs all states alike; the stiff method (solver.method = 2) counts the errors of body angles and spins 1000 times, and with the creep law of body velocities and tensioner arm rates 100 times, looser (they carry the bodies' artificial modes and the arms' response to them)")),
     Item::One(param("solver.initialStep", Vr::Fixed(26), Ty::Real("Time"), &["1e-7"])
         .above("0")
         .id("SolverInitialStep", "initial step")
@@ -348,7 +348,7 @@ pub static REGISTRY: &[Item] = &[
         param("pulley[#].arm.friction", Vr::Pulley(39), Ty::Real("Torque"), &["0"])
             .min("0")
             .id("PulleyArmFriction", "tensioner pivot friction")
-            .about("Coulomb friction torque of the tensioner pivot, regularised over 0.01 rad/s; it gives the asymmetric damping of automotive tensioners (slot {j})"),
+            .about("Coulomb friction torque of the tensioner pivot, reached once the arm slides beyond its presliding deflection (arm.preslidingAngle); it gives the asymmetric damping of automotive tensioners (slot {j})"),
         ],
     ),
     Item::Slots(
@@ -458,11 +458,16 @@ pub static REGISTRY: &[Item] = &[
             param("pulley[#].arm.hubFriction", Vr::Pulley(47), Ty::Real("FrictionCoefficient"), &["0"])
                 .min("0")
                 .id("PulleyArmHubFriction", "tensioner hub-load friction coefficient")
-                .about("Friction coefficient of the tensioner's hub-load (asymmetric) damping: a pivot friction torque arm.hubFriction x |hub force| x arm.frictionRadius, regularised as arm.friction over 0.01 rad/s, beside the constant arm.friction; it grows with the belt's load on the pulley, as the damping of automotive tensioners does (0 = none) (slot {j})"),
+                .about("Friction coefficient of the tensioner's hub-load (asymmetric) damping: a pivot friction torque arm.hubFriction x |hub force| x arm.frictionRadius beside the constant arm.friction, with the same presliding law (arm.preslidingAngle); it grows with the belt's load on the pulley, as the damping of automotive tensioners does (0 = none) (slot {j})"),
             param("pulley[#].arm.frictionRadius", Vr::Pulley(48), Ty::Real("Length"), &["0"])
                 .min("0")
                 .id("PulleyArmFrictionRadius", "tensioner friction radius")
                 .about("Radius at which the tensioner's hub-load friction acts (its damping bushing or friction shoe), > 0 when arm.hubFriction is (slot {j})"),
+            param("pulley[#].arm.preslidingAngle", Vr::Pulley(49), Ty::Real("Angle"), &["2e-4"])
+                .min("1e-7")
+                .max("0.01")
+                .id("PulleyArmPreslidingAngle", "tensioner presliding angle")
+                .about("Presliding angle of the tensioner's pivot friction (arm.friction and arm.hubFriction): the pivot's contact deflects elastically by up to this angle under the friction torque before it slides (Dahl's law), so a ripple far smaller than it does not make the arm slip and a held arm does not creep. Default 2e-4 rad, about 3 micrometres at a 15 mm bushing radius (slot {j})"),
         ],
     ),
     Item::Array(calculated("pulley[#].arm.installedAngle", Vr::PulleyOutput(26), Ty::Real("Angle"))

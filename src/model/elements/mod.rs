@@ -16,7 +16,7 @@
 //!   across its axis;
 //! * [`tensioner`]: an automatic tensioner arm: the pulley centre on the
 //!   arm, the moment of the hub force about the pivot and the arm's pivot
-//!   torque (spring, viscous damper, regularised Coulomb friction).
+//!   torque (spring, viscous damper, Coulomb friction with presliding).
 
 pub(crate) mod contact;
 pub(crate) mod decoupler;
@@ -35,5 +35,5 @@ pub use decoupler::Decoupler;
 pub use friction::{Friction, Law};
 pub use groove::friction_factor;
 pub use sde::{AxialSde, TorsionalSde};
-pub use tensioner::{Arm, FRICTION_RATE as ARM_FRICTION_RATE};
+pub use tensioner::{Arm, PivotFriction, PRESLIDING_ANGLE};
 pub use transverse::TransverseDamper;

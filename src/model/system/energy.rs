@@ -148,7 +148,7 @@ impl BeltSystem {
                 let o = self.state_layout.arm(j);
                 let (a, w) = (y[o.angle], y[o.rate]);
                 kin += 0.5 * arm.inertia * w * w;
-                pot += arm.energy(a);
+                pot += arm.energy(a) + arm.friction_energy(y[o.deflection]);
             }
         }
         StoredEnergy {

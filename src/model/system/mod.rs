@@ -219,7 +219,14 @@ impl BeltSystem {
                 decoupler: p.decoupler.as_ref().map(DecouplerParams::law),
                 rotor_inertia: p.decoupler.map_or(0.0, |d| d.rotor_inertia),
                 rotor_inv_inertia: p.decoupler.map_or(0.0, |d| 1.0 / d.rotor_inertia),
-                arm: p.arm.as_ref().map(|a| Arm::new(a, [p.x, p.y])),
+                arm: p.arm.as_ref().map(|a| {
+                    let mut arm = Arm::new(a, [p.x, p.y]);
+                    // the pivot friction's presliding under the installed
+                    // hub force 2 T0 sin(wrap / 2)
+                    let wrap = layout.wrap_of(j).map_or(0.0, |w| w.angle);
+                    arm.mount_friction(2.0 * params.belt.preload * (0.5 * wrap).sin());
+                    arm
+                }),
             };
         }
         let f = &params.friction;

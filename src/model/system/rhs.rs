@@ -403,7 +403,8 @@ impl BeltSystem {
         p_in
     }
 
-    /// The tensioner arms' rows (angle, rate) of the right-hand side, with
+    /// The tensioner arms' rows (angle, rate, pivot friction deflection) of
+    /// the right-hand side, with
     /// the belt's force on each arm's hub `hub`; their dissipation added to
     /// `p_diss`.
     #[inline(always)]
@@ -423,12 +424,14 @@ impl BeltSystem {
             dy[o.angle] = w;
             if self.relaxation.pulleys_held {
                 dy[o.rate] = 0.0;
+                dy[o.deflection] = 0.0;
                 continue;
             }
             let moment = arm.moment(a, hub[j]).0;
-            let hub_friction = arm.hub_friction(w, hub[j]).torque;
-            dy[o.rate] = (moment + arm.torque(a, w).torque + hub_friction) / arm.inertia;
-            *p_diss += arm.dissipation(a, w) - hub_friction * w;
+            let f = arm.pivot_friction(y[o.deflection], w, hub[j]);
+            dy[o.rate] = (moment + arm.torque(a, w).torque + f.torque) / arm.inertia;
+            dy[o.deflection] = f.deflection_rate;
+            *p_diss += arm.dissipation(a, w) + f.dissipation;
         }
     }
 

@@ -8,7 +8,8 @@
 //! 2. S is block tridiagonal with 3x3 blocks, cyclic (the belt is a closed
 //!    loop), plus dense rows and columns for the pulley speeds and the
 //!    tensioner arms' rates (each arm's angle is eliminated like a body's
-//!    position: d alpha = b_alpha + c d omega_arm). Body n-1, the free
+//!    position: d alpha = b_alpha + c d omega_arm, and its pivot friction's
+//!    deflection alike). Body n-1, the free
 //!    pulleys and the arms form a border of 3 + (free pulleys) + (arms)
 //!    unknowns, its size a type parameter (no unused rows or columns); bodies 0..n-2 are
 //!    eliminated in order by block Gaussian elimination (fill-in only in the
@@ -26,7 +27,9 @@ use crate::model::params::MAX_PULLEYS;
 use crate::model::simd::{self, Isa};
 use crate::model::state::BodyIndex;
 use crate::model::system::BeltSystem;
-use crate::solver::jacobian::{BodyArmJacobian, BodyJacobian, Jacobian, NEXT, PREV, SELF};
+use crate::solver::jacobian::{
+    ArmJacobian, BodyArmJacobian, BodyJacobian, Jacobian, NEXT, PREV, SELF,
+};
 use nalgebra::{Matrix2, Matrix3, RowVector3, SMatrix, SVector, Vector2, Vector3};
 
 /// The factors for a border of `NB` unknowns: body n-1 (3), the free
@@ -278,6 +281,15 @@ impl<const NB: usize> Factors<NB> {
                 * b.accel_by_creep
     }
 
+    /// The pivot of an arm's friction deflection row, 1 - c dz'/dz: the
+    /// deflection depends on the arm's rate only (its hub-force partial is
+    /// left out of the Jacobian), so it is eliminated like the arm's angle,
+    /// dz = (b_z + c dz'/d alpha' d alpha') / (1 - c dz'/dz).
+    #[inline(always)]
+    fn deflection_pivot(a: &ArmJacobian, c: f64) -> f64 {
+        1.0 - c * a.deflection_rate_by_deflection
+    }
+
     /// The row of pulley j's arm for body `b`'s velocities.
     #[inline(always)]
     fn arm_row(b: &BodyJacobian, a: &BodyArmJacobian, c: f64, j: usize) -> RowVector3<f64> {
@@ -452,7 +464,10 @@ impl<const NB: usize> Factors<NB> {
             for (k, sk) in view.arm_slots().iter().enumerate() {
                 let Some(kk) = *sk else { continue };
                 let mut v = if j == k {
-                    1.0 - c * (c * jac.arms[j].arm_accel_by_angle + jac.arms[j].arm_accel_by_rate)
+                    let a = &jac.arms[j];
+                    1.0 - c * (c * a.arm_accel_by_angle + a.arm_accel_by_rate)
+                        - c * c * a.arm_accel_by_deflection * a.deflection_rate_by_rate
+                            / Self::deflection_pivot(a, c)
                 } else {
                     0.0
                 };
@@ -645,7 +660,10 @@ impl<const NB: usize> Factors<NB> {
                 let o = sys.state_layout.arm(j);
                 b_arm[j] = b[o.angle];
                 let a = &jac.arms[j];
-                rw[k] = b[o.rate] + c * a.arm_accel_by_angle * b[o.angle];
+                rw[k] = b[o.rate]
+                    + c * a.arm_accel_by_angle * b[o.angle]
+                    + c * a.arm_accel_by_deflection * b[o.deflection]
+                        / Self::deflection_pivot(a, c);
                 if let Some(kp) = view.slot[j] {
                     rw[kp] += c * a.pulley_accel_by_arm_angle * b[o.angle];
                 }
@@ -785,6 +803,9 @@ impl<const NB: usize> Factors<NB> {
                 let o = sys.state_layout.arm(j);
                 b[o.rate] = xb[k];
                 b[o.angle] += c * xb[k];
+                let a = &jac.arms[j];
+                b[o.deflection] = (b[o.deflection] + c * a.deflection_rate_by_rate * xb[k])
+                    / Self::deflection_pivot(a, c);
             }
         }
         // 2. backward: velocities, then positions and creep of each body

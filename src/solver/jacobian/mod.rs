@@ -155,6 +155,12 @@ pub struct ArmJacobian {
     pub(crate) hub_by_arm_angle: Vector2<f64>,
     /// d(force on the hub)/d(arm rate).
     pub(crate) hub_by_arm_rate: Vector2<f64>,
+    /// d(arm acceleration)/d(pivot friction deflection): -k_p / I.
+    pub(crate) arm_accel_by_deflection: f64,
+    /// d(deflection rate)/d(arm rate).
+    pub(crate) deflection_rate_by_rate: f64,
+    /// d(deflection rate)/d(deflection).
+    pub(crate) deflection_rate_by_deflection: f64,
 }
 
 /// How one body's rows and a tensioner arm's row depend on each other,

@@ -65,25 +65,32 @@ impl BeltSystem {
         jac: &mut Jacobian,
     ) {
         let np = self.np;
-        // Tensioner arms: spring, damper, pivot friction and the lever of
-        // the hub force (its angle derivative at a given force)
+        // Tensioner arms: spring, damper, the pivot friction's presliding
+        // deflection and the lever of the hub force (its angle derivative at
+        // a given force); the deflection's own row (its hub-force partial
+        // left out: `elements::tensioner::PivotFriction`)
         for j in 0..np {
             let pc = &self.pulleys[j];
             let Some(arm) = &pc.arm else { continue };
             let o = self.state_layout.arm(j);
             let (a, w) = (y[o.angle], y[o.rate]);
             let own = arm.torque(a, w);
+            let f = arm.pivot_friction(y[o.deflection], w, hub_force[j]);
             let inv = inv_arm[j];
-            // the hub-load friction through the arm's rate and, by the hub
-            // force F_hub, through every state F_hub depends on: the arm's
-            // angle and rate, the pulley's speed and the bodies on the
-            // pulley (the hub-force impulse's rows)
-            let hf = arm.hub_friction(w, hub_force[j]);
-            let df = Vector2::new(hf.d_force[0], hf.d_force[1]) * inv;
+            // the friction's damping term through the hub force F_hub, and
+            // so through every state F_hub depends on: the arm's angle and
+            // rate, the pulley's speed and the bodies on the pulley (the
+            // hub-force impulse's rows)
+            let df = Vector2::new(f.d_force[0], f.d_force[1]) * inv;
             let aj = &mut jac.arms[j];
             aj.arm_accel_by_angle +=
                 (own.d_angle + arm.moment(a, hub_force[j]).1) * inv + df.dot(&aj.hub_by_arm_angle);
-            aj.arm_accel_by_rate += (own.d_rate + hf.d_rate) * inv + df.dot(&aj.hub_by_arm_rate);
+            aj.arm_accel_by_rate += (own.d_rate + f.d_rate) * inv + df.dot(&aj.hub_by_arm_rate);
+            aj.arm_accel_by_deflection = f.d_deflection * inv;
+            if inv != 0.0 {
+                aj.deflection_rate_by_rate = f.rate_by_rate;
+                aj.deflection_rate_by_deflection = f.rate_by_deflection;
+            }
             if df != Vector2::zeros() {
                 aj.arm_accel_by_pulley_speed += df.dot(&jac.hub_by_pulley_speed[j]);
                 let bit = 1u8 << j;

@@ -131,6 +131,9 @@ impl Jacobian {
                 &mut a.pulley_accel_by_arm_rate,
                 &mut a.torque_by_arm_angle,
                 &mut a.torque_by_arm_rate,
+                &mut a.arm_accel_by_deflection,
+                &mut a.deflection_rate_by_rate,
+                &mut a.deflection_rate_by_deflection,
             ] {
                 f(v);
             }
@@ -344,6 +347,10 @@ impl Jacobian {
                 set(ar, p.speed, aj.arm_accel_by_pulley_speed);
                 set(p.speed, a, aj.pulley_accel_by_arm_angle);
                 set(p.speed, ar, aj.pulley_accel_by_arm_rate);
+                let z = states.arm(j).deflection;
+                set(ar, z, aj.arm_accel_by_deflection);
+                set(z, ar, aj.deflection_rate_by_rate);
+                set(z, z, aj.deflection_rate_by_deflection);
                 for (i, b) in self.arm_bodies.iter().enumerate() {
                     let ob = BodyIndex::of(i);
                     let (q, v, z) = (ob.coordinates(), ob.rates(), ob.creep);
