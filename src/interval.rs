@@ -69,6 +69,9 @@ pub struct IntervalAccumulator {
     /// Time and values at the last endpoint.
     last_t: f64,
     last: Sample,
+    /// `last` is the sample of the drive's state at `last_t` (false once
+    /// the state may have been replaced: [`Self::invalidate`], [`Self::load`]).
+    last_valid: bool,
     /// Trapezoidal integrals since the interval's start.
     span_integral: [f64; MAX_PULLEYS],
     arm_integral: [f64; MAX_PULLEYS],
@@ -94,6 +97,7 @@ impl IntervalAccumulator {
             hint: [0; MAX_PULLEYS],
             last_t: 0.0,
             last: Sample::default(),
+            last_valid: false,
             span_integral: [0.0; MAX_PULLEYS],
             arm_integral: [0.0; MAX_PULLEYS],
             start: 0.0,
@@ -102,9 +106,17 @@ impl IntervalAccumulator {
     }
 
     /// Starts an interval at time `t`, state `y`: the outputs of an empty
-    /// interval are the values at this instant.
+    /// interval are the values at this instant. Where the last interval
+    /// ended at `t` on this state, its end's sample is taken again (the
+    /// pass over the bodies for the belt's smallest tension is what a short
+    /// communication step would otherwise pay twice).
     pub fn begin(&mut self, sys: &BeltSystem, t: f64, y: &[f64]) {
-        let s = self.sample(sys, y);
+        let s = if self.last_valid && self.last_t == t {
+            self.last
+        } else {
+            self.sample(sys, y)
+        };
+        self.last_valid = true;
         self.start = t;
         self.last_t = t;
         self.last = s;
@@ -144,6 +156,13 @@ impl IntervalAccumulator {
         }
     }
 
+    /// The drive's state may have changed since the last endpoint (set,
+    /// restored or a prescribed speed jumped): the next [`Self::begin`]
+    /// samples it afresh.
+    pub fn invalidate(&mut self) {
+        self.last_valid = false;
+    }
+
     /// The outputs of the interval so far.
     pub fn outputs(&self) -> IntervalOutputs {
         self.out
@@ -178,6 +197,7 @@ impl IntervalAccumulator {
         {
             return false;
         }
+        self.last_valid = false;
         let o = &mut self.out;
         for (a, v) in [
             &mut o.span_mean_tension,

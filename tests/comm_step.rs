@@ -311,3 +311,100 @@ fn no_step_past_crosses_a_ramp_end() {
         assert!(past > 10, "{name}: only {past} steps past");
     }
 }
+
+/// An interval starts from the values of the state it starts on. Each call
+/// takes the values at its start from the end of the call before (the
+/// state shown there); a state replaced in between (`Drive::set_state`), a
+/// restored one, or tensioner springs moved (`Drive::set_arm_free_angles`)
+/// is sampled afresh. Checked on empty intervals (a call to the drive's own
+/// time), whose outputs are the values at that instant: with the state held,
+/// the same bits as a fresh sample of it; with the state replaced (the body
+/// in the middle of span 1 moved 0.3 mm along the belt: its tension moves
+/// by more than 10 %) or the springs turned (0.05 rad), the instantaneous
+/// span tensions, smallest tension and
+/// spring torques of the new state (the same SDEs by the same formulas, to
+/// rounding: 1e-9 relative), where a value taken over from the call before
+/// would be off by the change.
+#[test]
+fn an_interval_starts_from_the_state_it_is_given() {
+    for method in [Method::Rkf45, Method::Rosenbrock] {
+        let p = accessory::at_rpm("tens", 800.0, method);
+        let mut a = Drive::new(&p, 0.0).expect("valid");
+        a.advance(0.0213).expect("runs");
+        let t = a.time();
+        // held: the call's end sample against a fresh one
+        let (mut held, mut fresh) = (a.clone(), a.clone());
+        assert!(fresh.set_state(a.state()));
+        held.advance(t).expect("runs");
+        fresh.advance(t).expect("runs");
+        assert_eq!(
+            held.outputs().interval,
+            fresh.outputs().interval,
+            "{method:?}"
+        );
+        // replaced: the body nearest span 1's middle moved along the belt
+        // by 0.3 mm
+        let mut moved = a.clone();
+        let mut y = a.state().to_vec();
+        let mid = a.layout().span_between(0, 1).expect("span 1").midpoint();
+        let n = a.system().n_bodies();
+        let dist = |i: usize| {
+            let b = belt_drive::model::state::BodyIndex::of(i);
+            (y[b.x] - mid[0]).hypot(y[b.y] - mid[1])
+        };
+        let i = (0..n)
+            .min_by(|&p, &q| dist(p).total_cmp(&dist(q)))
+            .expect("bodies");
+        let b = belt_drive::model::state::BodyIndex::of(i);
+        let phi = y[b.angle];
+        y[b.x] += 3e-4 * phi.cos();
+        y[b.y] += 3e-4 * phi.sin();
+        assert!(moved.set_state(&y));
+        moved.advance(t).expect("runs");
+        let before = a.outputs();
+        let o = moved.outputs();
+        let close = |x: f64, want: f64| (x - want).abs() <= 1e-9 * want.abs().max(1.0);
+        assert!(
+            close(o.interval.belt_min_tension, o.min_tension),
+            "{method:?}: belt min {} vs {}",
+            o.interval.belt_min_tension,
+            o.min_tension,
+        );
+        assert!(
+            (o.span_tension[0] - before.span_tension[0]).abs() > 0.1 * before.span_tension[0],
+            "{method:?}: the move changes span 1's tension: {} vs {}",
+            o.span_tension[0],
+            before.span_tension[0]
+        );
+        for k in 0..4 {
+            for got in [
+                o.interval.span_mean_tension[k],
+                o.interval.span_min_tension[k],
+                o.interval.span_max_tension[k],
+            ] {
+                assert!(
+                    close(got, o.span_tension[k]),
+                    "{method:?} span {k}: {got} vs {}",
+                    o.span_tension[k]
+                );
+            }
+        }
+        // the springs turned
+        let mut turned = a.clone();
+        let angles: Vec<f64> = a.arm_free_angles().iter().map(|x| x + 0.05).collect();
+        assert!(turned.set_arm_free_angles(&angles));
+        turned.advance(t).expect("runs");
+        let o = turned.outputs();
+        let j = 3;
+        assert!(
+            close(
+                o.interval.arm_mean_spring_torque[j],
+                o.pulleys[j].arm_spring_torque
+            ) && (o.pulleys[j].arm_spring_torque - before.pulleys[j].arm_spring_torque).abs() > 1.0,
+            "{method:?}: spring torque {} vs {} (before {})",
+            o.interval.arm_mean_spring_torque[j],
+            o.pulleys[j].arm_spring_torque,
+            before.pulleys[j].arm_spring_torque
+        );
+    }
+}

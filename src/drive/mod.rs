@@ -23,7 +23,7 @@ use crate::model::layout::Layout;
 use crate::model::param_id::Message;
 use crate::model::params::{DriveParams, ParamError, MAX_PULLEYS, PROBE_AUTO};
 use crate::model::state::{self, BodyIndex};
-use crate::model::system::{BeltSystem, Inputs, Workspace, IMPULSES};
+use crate::model::system::{BeltSystem, Inputs, Workspace, BODY_DOF, IMPULSES};
 use crate::solver::step_control::{Landing, Stats, StepFailure};
 
 /// The integrator's own time and state when it has stepped past the
@@ -98,25 +98,39 @@ impl Ahead {
             s * (s - 1.0) * (s - 1.0) * h,
             s * s * (s - 1.0) * h,
         );
-        for (i, o) in out.iter_mut().enumerate() {
-            let (ya, yb) = (self.y_a[i], self.y_b[i]);
-            let d = yb - ya;
-            *o = ya + s * d + c_d * d + c_a * self.f_a[i] + c_b * self.f_b[i];
-        }
         // its time derivative: d / h (1 + c_d') + c_a' / h f_a + c_b' / h f_b
         let (e_d, e_a, e_b) = (
             6.0 * s * (1.0 - s) / h,
             (s - 1.0) * (3.0 * s - 1.0),
             s * (3.0 * s - 2.0),
         );
-        for i in 0..self.n_bodies {
-            let b = BodyIndex::of(i);
-            for (q, v) in b.coordinates().into_iter().zip(b.rates()) {
-                let d = self.y_b[q] - self.y_a[q];
-                out[v] = e_d * d + e_a * self.f_a[q] + e_b * self.f_b[q];
+        // the bodies, one pass over their contiguous states
+        let nb = BODY_DOF * self.n_bodies;
+        let idx = BodyIndex::of(0);
+        let ends = self.y_a[..nb]
+            .chunks_exact(BODY_DOF)
+            .zip(self.y_b[..nb].chunks_exact(BODY_DOF));
+        let slopes = self.f_a[..nb]
+            .chunks_exact(BODY_DOF)
+            .zip(self.f_b[..nb].chunks_exact(BODY_DOF));
+        for ((o, (ya, yb)), (fa, fb)) in out[..nb].chunks_exact_mut(BODY_DOF).zip(ends).zip(slopes)
+        {
+            let o: &mut [f64; BODY_DOF] = o.try_into().expect("a body's states");
+            let [ya, yb, fa, fb]: [&[f64; BODY_DOF]; 4] =
+                [ya, yb, fa, fb].map(|x| x.try_into().expect("a body's states"));
+            for (q, v) in idx.coordinates().into_iter().zip(idx.rates()) {
+                let d = yb[q] - ya[q];
+                o[q] = ya[q] + s * d + c_d * d + c_a * fa[q] + c_b * fb[q];
+                o[v] = e_d * d + e_a * fa[q] + e_b * fb[q];
             }
-            let z = b.creep;
-            out[z] = self.y_a[z] + s * (self.y_b[z] - self.y_a[z]);
+            let z = idx.creep;
+            o[z] = ya[z] + s * (yb[z] - ya[z]);
+        }
+        // the pulleys, decouplers, arms, impulses and energies
+        for (i, o) in out.iter_mut().enumerate().skip(nb) {
+            let (ya, yb) = (self.y_a[i], self.y_b[i]);
+            let d = yb - ya;
+            *o = ya + s * d + c_d * d + c_a * self.f_a[i] + c_b * self.f_b[i];
         }
     }
 }
@@ -333,6 +347,7 @@ impl Drive {
                     let o = self.sys.state_layout().pulley(j).speed;
                     same = false;
                     self.y[o] = w;
+                    self.interval.invalidate();
                 }
             }
         }
@@ -492,7 +507,10 @@ impl Drive {
             a.h_a,
             self.t,
         ) {
-            Ok(_) => self.y[..q].copy_from_slice(&a.y_b[..q]),
+            Ok(_) => {
+                self.y[..q].copy_from_slice(&a.y_b[..q]);
+                self.interval.invalidate();
+            }
             Err(_) => self.integrator.state_changed(),
         }
     }
@@ -672,6 +690,7 @@ impl Drive {
         }
         self.ahead.active = false;
         self.y.copy_from_slice(y);
+        self.interval.invalidate();
         self.integrator.state_changed();
         true
     }
@@ -710,6 +729,8 @@ impl Drive {
         for (arm, &a) in arms.zip(angles) {
             arm.free_angle = a;
         }
+        // the spring torques the interval outputs sampled have changed
+        self.interval.invalidate();
         self.integrator.state_changed();
         true
     }

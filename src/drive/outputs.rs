@@ -173,10 +173,10 @@ impl Recorder for OutputRecorder<'_> {
 
 impl Drive {
     /// All outputs at the current state: [`Self::state_outputs`] and
-    /// [`Self::add_force_outputs`].
+    /// [`Self::add_evaluated_outputs`].
     pub fn outputs(&mut self) -> Outputs {
         let mut out = self.state_outputs();
-        self.add_force_outputs(&mut out);
+        self.add_evaluated_outputs(&mut out);
         out
     }
 
@@ -184,9 +184,9 @@ impl Drive {
     /// evaluation of the forces: pulley angles, speeds, slips, wrap angles,
     /// rotor speeds, the arms' angles, rates and spring torques, the means
     /// over a non-empty window (impulses over its duration), the span
-    /// slips and mid-span deflections, the probe's position, the input
-    /// energy and the interval outputs. Every other field is zero; so are
-    /// the means of an empty window (they are the instantaneous forces).
+    /// slips, the probe's position, the input energy and the interval
+    /// outputs. Every other field is zero; so are the means of an empty
+    /// window (they are the instantaneous forces).
     pub fn state_outputs(&self) -> Outputs {
         let mut out = Outputs::default();
         let np = self.sys.np;
@@ -238,23 +238,18 @@ impl Drive {
                 0.0
             };
         }
-        for k in 0..np {
-            if let Some((d, rate)) = self.mid_deflection(k) {
-                out.span_mid_deflection[k] = d;
-                out.span_mid_deflection_rate[k] = rate;
-            }
-        }
         out.energy_input = self.y[states.energy().work_in];
         out.interval = self.interval.outputs();
         out
     }
 
     /// Adds to `out` (from [`Self::state_outputs`]) the outputs that take
-    /// one recorded evaluation of the forces and the energy sums: torques,
-    /// accelerations, hub forces, tensions, the probe's forces, powers,
-    /// energies, and the means of an empty window (the instantaneous
-    /// values).
-    pub fn add_force_outputs(&mut self, out: &mut Outputs) {
+    /// a pass over the belt: one recorded evaluation of the forces and the
+    /// energy sums (torques, accelerations, hub forces, tensions, the
+    /// probe's forces, powers, energies, and the means of an empty window,
+    /// the instantaneous values), and the mid-span deflections (a search
+    /// along the belt per span).
+    pub fn add_evaluated_outputs(&mut self, out: &mut Outputs) {
         let np = self.sys.np;
         let mut span_mid = [[0.0; 2]; MAX_PULLEYS];
         for (k, mid) in span_mid.iter_mut().enumerate().take(np) {
@@ -298,6 +293,12 @@ impl Drive {
         let (kin, pot) = self.sys.energies(&self.y);
         out.kinetic_energy = kin;
         out.potential_energy = pot;
+        for k in 0..np {
+            if let Some((d, rate)) = self.mid_deflection(k) {
+                out.span_mid_deflection[k] = d;
+                out.span_mid_deflection_rate[k] = rate;
+            }
+        }
     }
 
     /// Deflection and its rate at the fixed mid-point of the free span from

@@ -43,9 +43,9 @@ pub struct BeltDrive {
     start_time: f64,
     drive: Option<Drive>,
     /// The outputs at the drive's time, evaluated when first read; true
-    /// once those that take a force evaluation are in
-    /// ([`Drive::add_force_outputs`]), so that a master reading speeds,
-    /// angles and means only pays for no force evaluation.
+    /// once those that take a pass over the belt are in
+    /// ([`Drive::add_evaluated_outputs`]), so that a master reading speeds,
+    /// angles and means pays for no force evaluation.
     outputs: Option<(Outputs, bool)>,
 }
 
@@ -60,10 +60,11 @@ fn no_code(var: Var, code: i32) -> String {
     )
 }
 
-/// Whether output `var` takes a force evaluation
-/// ([`Drive::add_force_outputs`]); the means do only over an empty window,
-/// where they are the instantaneous values.
-fn needs_forces(var: Var, window_empty: bool) -> bool {
+/// Whether output `var` takes a pass over the belt
+/// ([`Drive::add_evaluated_outputs`]: forces, energies, mid-span
+/// deflections); the means do only over an empty window, where they are the
+/// instantaneous values.
+fn needs_evaluation(var: Var, window_empty: bool) -> bool {
     match var {
         Var::PulleyOmega
         | Var::PulleyAngle
@@ -75,8 +76,6 @@ fn needs_forces(var: Var, window_empty: bool) -> bool {
         | Var::PulleyArmSpringTorque
         | Var::PulleyArmFreeAngle
         | Var::SpanSlip
-        | Var::SpanMidDeflection
-        | Var::SpanMidDeflectionRate
         | Var::SpanMeanTension
         | Var::SpanMinTension
         | Var::SpanMaxTension
@@ -201,23 +200,23 @@ impl BeltDrive {
         Ok(self.drive.as_mut().expect("built above"))
     }
 
-    /// The outputs, with those that take a force evaluation if `forces`.
-    fn outputs(&mut self, forces: bool) -> Result<&Outputs, String> {
+    /// The outputs, with those that take a pass over the belt if `evaluated`.
+    fn outputs(&mut self, evaluated: bool) -> Result<&Outputs, String> {
         self.ensure_drive()?;
         let drive = self.drive.as_mut().expect("built above");
         match &mut self.outputs {
             Some((_, true)) => {}
-            Some((_, false)) if !forces => {}
+            Some((_, false)) if !evaluated => {}
             Some((out, have)) => {
-                drive.add_force_outputs(out);
+                drive.add_evaluated_outputs(out);
                 *have = true;
             }
             None => {
                 let mut out = drive.state_outputs();
-                if forces {
-                    drive.add_force_outputs(&mut out);
+                if evaluated {
+                    drive.add_evaluated_outputs(&mut out);
                 }
-                self.outputs = Some((out, forces));
+                self.outputs = Some((out, evaluated));
             }
         }
         Ok(&self.outputs.as_ref().expect("evaluated above").0)
@@ -263,7 +262,7 @@ impl BeltDrive {
             return Ok(stats);
         }
         let window_empty = self.ensure_drive()?.window_empty();
-        let o = self.outputs(needs_forces(v.var, window_empty))?;
+        let o = self.outputs(needs_evaluation(v.var, window_empty))?;
         let p = &o.pulleys[j.min(MAX_PULLEYS - 1)];
         Ok(match v.var {
             Var::PulleyOmega => p.omega,

@@ -467,7 +467,7 @@ pub static REGISTRY: &[Item] = &[
                 .min("1e-7")
                 .max("0.01")
                 .id("PulleyArmPreslidingAngle", "tensioner presliding angle")
-                .about("Presliding angle of the tensioner's pivot friction (arm.friction and arm.hubFriction): the pivot's contact deflects elastically by up to this angle under the friction torque before it slides (Dahl's law), so a ripple far smaller than it does not make the arm slip and a held arm does not creep. Default 2e-4 rad, about 3 micrometres at a 15 mm bushing radius (slot {j})"),
+                .about("Presliding angle of the tensioner's pivot friction (arm.friction and arm.hubFriction): the pivot's contact deflects elastically by up to this angle under the friction torque before it slides (an elasto-plastic presliding law), so a ripple far smaller than it does not make the arm slip and a held arm does not creep. Default 2e-4 rad, about 3 micrometres at a 15 mm bushing radius, the presliding displacement of metal and polymer contacts (slot {j})"),
         ],
     ),
     Item::Array(calculated("pulley[#].arm.installedAngle", Vr::PulleyOutput(26), Ty::Real("Angle"))

@@ -35,5 +35,5 @@ pub use decoupler::Decoupler;
 pub use friction::{Friction, Law};
 pub use groove::friction_factor;
 pub use sde::{AxialSde, TorsionalSde};
-pub use tensioner::{Arm, PivotFriction, PRESLIDING_ANGLE};
+pub use tensioner::{Arm, PivotFriction};
 pub use transverse::TransverseDamper;

@@ -56,13 +56,6 @@ use crate::model::params::{
     check, declared, param_error, positive_when, ParamError, MIN_ARM_LENGTH,
 };
 
-/// Presliding angle of the pivot friction when `pulley[j].arm.preslidingAngle`
-/// is not set [rad]: 2e-4 rad, a contact that deflects by 3 micrometres
-/// at a 15 mm bushing radius before it slides. Metal and polymer contacts
-/// show presliding displacements of a few micrometres (Armstrong-Helouvry,
-/// Dupont and Canudas de Wit, Automatica 30 (1994) 1083-1138, section 2.2).
-pub const PRESLIDING_ANGLE: f64 = 2e-4;
-
 /// Breakaway deflection of the pivot friction as a fraction of the sliding
 /// one, z_ba / z_ss: below it the presliding is purely elastic (a held arm
 /// carries up to half its friction torque without any slip, so a ripple
@@ -542,7 +535,7 @@ impl Arm {
             damping: 0.0,
             friction: 0.0,
             hub_friction: 0.0,
-            presliding_angle: PRESLIDING_ANGLE,
+            presliding_angle: TensionerArm::default().presliding_angle,
             presliding_stiffness: 0.0,
             presliding_damping: 0.0,
             stops: None,
