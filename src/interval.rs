@@ -106,16 +106,27 @@ impl IntervalAccumulator {
     }
 
     /// Starts an interval at time `t`, state `y`: the outputs of an empty
-    /// interval are the values at this instant. Where the last interval
-    /// ended at `t` on this state, its end's sample is taken again (the
-    /// pass over the bodies for the belt's smallest tension is what a short
-    /// communication step would otherwise pay twice).
+    /// interval are the values at this instant.
     pub fn begin(&mut self, sys: &BeltSystem, t: f64, y: &[f64]) {
+        let s = self.sample(sys, y);
+        self.start_with(t, s);
+    }
+
+    /// [`Self::begin`] for the interval that follows the last one: where
+    /// that ended at `t` and the state has not been replaced since
+    /// ([`Self::invalidate`]), its end's sample is taken again (the pass
+    /// over the bodies for the belt's smallest tension is what a short
+    /// communication step would otherwise pay twice).
+    pub fn continue_at(&mut self, sys: &BeltSystem, t: f64, y: &[f64]) {
         let s = if self.last_valid && self.last_t == t {
             self.last
         } else {
             self.sample(sys, y)
         };
+        self.start_with(t, s);
+    }
+
+    fn start_with(&mut self, t: f64, s: Sample) {
         self.last_valid = true;
         self.start = t;
         self.last_t = t;

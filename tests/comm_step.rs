@@ -316,8 +316,9 @@ fn no_step_past_crosses_a_ramp_end() {
 /// takes the values at its start from the end of the call before (the
 /// state shown there); a state replaced in between (`Drive::set_state`), a
 /// restored one, or tensioner springs moved (`Drive::set_arm_free_angles`)
-/// is sampled afresh. Checked on empty intervals (a call to the drive's own
-/// time), whose outputs are the values at that instant: with the state held,
+/// is sampled afresh, and so is the mounted drive's. Checked on empty
+/// intervals (the mounted drive's, and a call to the drive's own time),
+/// whose outputs are the values at that instant: with the state held,
 /// the same bits as a fresh sample of it; with the state replaced (the body
 /// in the middle of span 1 moved 0.3 mm along the belt: its tension moves
 /// by more than 10 %) or the springs turned (0.05 rad), the instantaneous
@@ -330,6 +331,22 @@ fn an_interval_starts_from_the_state_it_is_given() {
     for method in [Method::Rkf45, Method::Rosenbrock] {
         let p = accessory::at_rpm("tens", 800.0, method);
         let mut a = Drive::new(&p, 0.0).expect("valid");
+        let close = |x: f64, want: f64| (x - want).abs() <= 1e-9 * want.abs().max(1.0);
+        // mounted: the values of the state the mounting settled, not of
+        // the layout it started from
+        let o = a.outputs();
+        for k in 0..4 {
+            assert!(
+                close(o.interval.span_mean_tension[k], o.span_tension[k]),
+                "{method:?} mounted, span {k}: {} vs {}",
+                o.interval.span_mean_tension[k],
+                o.span_tension[k]
+            );
+        }
+        assert!(
+            close(o.interval.belt_min_tension, o.min_tension),
+            "{method:?} mounted"
+        );
         a.advance(0.0213).expect("runs");
         let t = a.time();
         // held: the call's end sample against a fresh one
@@ -363,7 +380,6 @@ fn an_interval_starts_from_the_state_it_is_given() {
         moved.advance(t).expect("runs");
         let before = a.outputs();
         let o = moved.outputs();
-        let close = |x: f64, want: f64| (x - want).abs() <= 1e-9 * want.abs().max(1.0);
         assert!(
             close(o.interval.belt_min_tension, o.min_tension),
             "{method:?}: belt min {} vs {}",

@@ -392,7 +392,7 @@ impl Drive {
         }
         let start = self.t;
         let before = self.interval.clone();
-        self.interval.begin(&self.sys, self.t, &self.y);
+        self.interval.continue_at(&self.sys, self.t, &self.y);
         let a = &mut self.ahead;
         // a target within the step taken past: no step
         let within = a.active && t_end <= a.t_b;
