@@ -168,8 +168,8 @@ impl IntervalAccumulator {
     }
 
     /// The drive's state may have changed since the last endpoint (set,
-    /// restored or a prescribed speed jumped): the next [`Self::begin`]
-    /// samples it afresh.
+    /// restored or a prescribed speed jumped): the next
+    /// [`Self::continue_at`] samples it afresh.
     pub fn invalidate(&mut self) {
         self.last_valid = false;
     }
