@@ -52,9 +52,16 @@ pub struct IntervalOutputs {
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 struct Sample {
     span: [f64; MAX_PULLEYS],
-    belt_min: f64,
+    /// The belt's smallest tension, None until taken (a communication
+    /// point's is taken when it is read: [`IntervalAccumulator::settle`]).
+    belt_min: Option<f64>,
     arm: [f64; MAX_PULLEYS],
 }
+
+/// The two states an interval's start may be kept in (the drive owns
+/// them): the start of the interval before stays intact while a call that
+/// may fail writes the other.
+pub type StartStates = [Vec<f64>; 2];
 
 /// Accumulates [`IntervalOutputs`] over the endpoints of the integrator's
 /// steps. Allocates nothing.
@@ -72,6 +79,13 @@ pub struct IntervalAccumulator {
     /// `last` is the sample of the drive's state at `last_t` (false once
     /// the state may have been replaced: [`Self::invalidate`], [`Self::load`]).
     last_valid: bool,
+    /// The belt's smallest tension at the interval's start is not taken
+    /// yet; the start's state is in the drive's `StartStates[start_slot]`.
+    start_pending: bool,
+    start_slot: usize,
+    /// ... nor at the last endpoint, a communication point: the drive's
+    /// state now.
+    end_pending: bool,
     /// Trapezoidal integrals since the interval's start.
     span_integral: [f64; MAX_PULLEYS],
     arm_integral: [f64; MAX_PULLEYS],
@@ -98,6 +112,9 @@ impl IntervalAccumulator {
             last_t: 0.0,
             last: Sample::default(),
             last_valid: false,
+            start_pending: false,
+            start_slot: 0,
+            end_pending: false,
             span_integral: [0.0; MAX_PULLEYS],
             arm_integral: [0.0; MAX_PULLEYS],
             start: 0.0,
@@ -108,7 +125,7 @@ impl IntervalAccumulator {
     /// Starts an interval at time `t`, state `y`: the outputs of an empty
     /// interval are the values at this instant.
     pub fn begin(&mut self, sys: &BeltSystem, t: f64, y: &[f64]) {
-        let s = self.sample(sys, y);
+        let s = self.sample(sys, y, true);
         self.start_with(t, s);
     }
 
@@ -116,18 +133,28 @@ impl IntervalAccumulator {
     /// that ended at `t` and the state has not been replaced since
     /// ([`Self::invalidate`]), its end's sample is taken again (the pass
     /// over the bodies for the belt's smallest tension is what a short
-    /// communication step would otherwise pay twice).
-    pub fn continue_at(&mut self, sys: &BeltSystem, t: f64, y: &[f64]) {
+    /// communication step would otherwise pay twice). Where that sample's
+    /// smallest tension was not taken (nobody read it), `y` is kept in
+    /// `starts` for when it is.
+    pub fn continue_at(&mut self, sys: &BeltSystem, t: f64, y: &[f64], starts: &mut StartStates) {
         let s = if self.last_valid && self.last_t == t {
             self.last
         } else {
-            self.sample(sys, y)
+            self.sample(sys, y, true)
         };
         self.start_with(t, s);
+        if s.belt_min.is_none() {
+            let slot = 1 - self.start_slot;
+            starts[slot].copy_from_slice(y);
+            self.start_slot = slot;
+            self.start_pending = true;
+        }
     }
 
     fn start_with(&mut self, t: f64, s: Sample) {
         self.last_valid = true;
+        self.start_pending = false;
+        self.end_pending = false;
         self.start = t;
         self.last_t = t;
         self.last = s;
@@ -137,7 +164,7 @@ impl IntervalAccumulator {
             span_mean_tension: s.span,
             span_min_tension: s.span,
             span_max_tension: s.span,
-            belt_min_tension: s.belt_min,
+            belt_min_tension: s.belt_min.unwrap_or(f64::INFINITY),
             arm_mean_spring_torque: s.arm,
         };
     }
@@ -145,11 +172,24 @@ impl IntervalAccumulator {
     /// The integrator reached time `t` (> the last endpoint's) with state `y`
     /// at the end of an accepted step.
     pub fn step_end(&mut self, sys: &BeltSystem, t: f64, y: &[f64]) {
+        self.endpoint(sys, t, y, true);
+    }
+
+    /// The drive reached a communication point at time `t` with state `y`
+    /// (its state from now on): as [`Self::step_end`], but the belt's
+    /// smallest tension there is taken only when asked for
+    /// ([`Self::settle`]), since a pass over the belt at every point is
+    /// what short communication steps would otherwise pay for.
+    pub fn point_end(&mut self, sys: &BeltSystem, t: f64, y: &[f64]) {
+        self.endpoint(sys, t, y, false);
+    }
+
+    fn endpoint(&mut self, sys: &BeltSystem, t: f64, y: &[f64], belt: bool) {
         let dt = t - self.last_t;
         if dt <= 0.0 {
             return;
         }
-        let s = self.sample(sys, y);
+        let s = self.sample(sys, y, belt);
         let np = sys.np;
         for k in 0..np {
             self.span_integral[k] += 0.5 * dt * (self.last.span[k] + s.span[k]);
@@ -157,7 +197,10 @@ impl IntervalAccumulator {
             self.out.span_min_tension[k] = self.out.span_min_tension[k].min(s.span[k]);
             self.out.span_max_tension[k] = self.out.span_max_tension[k].max(s.span[k]);
         }
-        self.out.belt_min_tension = self.out.belt_min_tension.min(s.belt_min);
+        if let Some(b) = s.belt_min {
+            self.out.belt_min_tension = self.out.belt_min_tension.min(b);
+        }
+        self.end_pending = s.belt_min.is_none();
         self.last_t = t;
         self.last = s;
         let span = t - self.start;
@@ -167,21 +210,54 @@ impl IntervalAccumulator {
         }
     }
 
-    /// The drive's state may have changed since the last endpoint (set,
-    /// restored or a prescribed speed jumped): the next
-    /// [`Self::continue_at`] samples it afresh.
-    pub fn invalidate(&mut self) {
+    /// The drive's state `y` is about to be replaced (set, restored or a
+    /// prescribed speed jumped) or the springs moved: the smallest tension
+    /// still owed by the interval is taken from the states as they are
+    /// ([`Self::settle`]), and the next [`Self::continue_at`] samples
+    /// afresh.
+    pub fn invalidate(&mut self, sys: &BeltSystem, starts: &StartStates, y: &[f64]) {
+        self.settle(sys, starts, y);
         self.last_valid = false;
     }
 
-    /// The outputs of the interval so far.
+    /// Takes the belt's smallest tension where the interval still owes it:
+    /// at its start (kept in `starts`) and at its last endpoint (the
+    /// drive's state `y`).
+    pub fn settle(&mut self, sys: &BeltSystem, starts: &StartStates, y: &[f64]) {
+        self.out.belt_min_tension = self.belt_min_tension(sys, starts, y);
+        if self.last.belt_min.is_none() {
+            // the last endpoint is the drive's state (a point's end, or
+            // the start of an empty interval)
+            self.last.belt_min = Some(belt_min(sys, y));
+        }
+        self.start_pending = false;
+        self.end_pending = false;
+    }
+
+    /// The belt's smallest tension over the interval so far, the values
+    /// still owed taken from `starts` and `y` ([`Self::settle`] keeps them).
+    pub fn belt_min_tension(&self, sys: &BeltSystem, starts: &StartStates, y: &[f64]) -> f64 {
+        let mut m = self.out.belt_min_tension;
+        if self.start_pending {
+            m = m.min(belt_min(sys, &starts[self.start_slot]));
+        }
+        if self.end_pending {
+            m = m.min(belt_min(sys, y));
+        }
+        m
+    }
+
+    /// The outputs of the interval so far; the belt's smallest tension
+    /// leaves out the values not yet taken ([`Self::belt_min_tension`]).
     pub fn outputs(&self) -> IntervalOutputs {
         self.out
     }
 
-    /// The state a saved FMU state carries: the outputs and the search
-    /// hints (the integrals are folded into the outputs at every endpoint).
-    pub fn save(&self, out: &mut Vec<f64>) {
+    /// The state a saved FMU state carries: the outputs, with the belt's
+    /// smallest tension `belt_min` ([`Self::belt_min_tension`]), and the
+    /// search hints (the integrals are folded into the outputs at every
+    /// endpoint).
+    pub fn save(&self, out: &mut Vec<f64>, belt_min: f64) {
         let o = &self.out;
         for a in [
             &o.span_mean_tension,
@@ -191,7 +267,7 @@ impl IntervalAccumulator {
         ] {
             out.extend_from_slice(a);
         }
-        out.push(o.belt_min_tension);
+        out.push(belt_min);
         out.extend(self.hint.iter().map(|&h| h as f64));
     }
 
@@ -209,6 +285,8 @@ impl IntervalAccumulator {
             return false;
         }
         self.last_valid = false;
+        self.start_pending = false;
+        self.end_pending = false;
         let o = &mut self.out;
         for (a, v) in [
             &mut o.span_mean_tension,
@@ -228,31 +306,13 @@ impl IntervalAccumulator {
         true
     }
 
-    /// Span tensions, the belt's smallest tension and the arms' spring
-    /// torques at state `y`.
-    fn sample(&mut self, sys: &BeltSystem, y: &[f64]) -> Sample {
-        let n = sys.n;
+    /// Span tensions, the belt's smallest tension (if `belt`) and the arms'
+    /// spring torques at state `y`.
+    fn sample(&mut self, sys: &BeltSystem, y: &[f64], belt: bool) -> Sample {
         let mut s = Sample {
-            belt_min: f64::INFINITY,
+            belt_min: belt.then(|| belt_min(sys, y)),
             ..Sample::default()
         };
-        // one pass over the bodies: each body's ends once, SDE i joining
-        // body i - 1's end to body i's start
-        let axial = sys.axial;
-        let (mut prev_p, mut prev_v) = body_end(sys, y, n - 1, 1.0);
-        for i in 0..n {
-            let (b, sn, cs) = body_trig(y, i);
-            let (hx, hy) = (sys.half_length * cs, sys.half_length * sn);
-            let ([x, yy], [vx, vy], w) = (b.position(), b.velocity(), b.spin());
-            let start = [x - hx, yy - hy];
-            let start_v = [vx + w * hy, vy - w * hx];
-            let d = [start[0] - prev_p[0], start[1] - prev_p[1]];
-            let dd = [start_v[0] - prev_v[0], start_v[1] - prev_v[1]];
-            let (d2, rate) = axial.rate(d, dd);
-            s.belt_min = s.belt_min.min(axial.tension(d2, rate));
-            prev_p = [x + hx, yy + hy];
-            prev_v = [vx - w * hy, vy + w * hx];
-        }
         for k in 0..sys.np {
             if self.has_span[k] {
                 let i = nearest_sde(sys, y, self.span_mid[k], self.hint[k]);
@@ -265,6 +325,30 @@ impl IntervalAccumulator {
         }
         s
     }
+}
+
+/// The smallest tension of the belt's translational SDEs at state `y`: one
+/// pass over the bodies, each body's ends once, SDE i joining body i - 1's
+/// end to body i's start.
+fn belt_min(sys: &BeltSystem, y: &[f64]) -> f64 {
+    let n = sys.n;
+    let axial = sys.axial;
+    let mut m = f64::INFINITY;
+    let (mut prev_p, mut prev_v) = body_end(sys, y, n - 1, 1.0);
+    for i in 0..n {
+        let (b, sn, cs) = body_trig(y, i);
+        let (hx, hy) = (sys.half_length * cs, sys.half_length * sn);
+        let ([x, yy], [vx, vy], w) = (b.position(), b.velocity(), b.spin());
+        let start = [x - hx, yy - hy];
+        let start_v = [vx + w * hy, vy - w * hx];
+        let d = [start[0] - prev_p[0], start[1] - prev_p[1]];
+        let dd = [start_v[0] - prev_v[0], start_v[1] - prev_v[1]];
+        let (d2, rate) = axial.rate(d, dd);
+        m = m.min(axial.tension(d2, rate));
+        prev_p = [x + hx, yy + hy];
+        prev_v = [vx - w * hy, vy + w * hx];
+    }
+    m
 }
 
 /// The end of body `i` towards body `i + 1` (`sign` +1) or towards body

@@ -18,7 +18,7 @@ pub use outputs::{Outputs, ProbeOutputs, PulleyOutputs};
 
 use mounting::{auto_probe, mount_arms, relax_into_equilibrium, warnings};
 
-use crate::interval::{IntervalAccumulator, INTERVAL_DATA};
+use crate::interval::{IntervalAccumulator, StartStates, INTERVAL_DATA};
 use crate::model::layout::Layout;
 use crate::model::param_id::Message;
 use crate::model::params::{DriveParams, ParamError, MAX_PULLEYS, PROBE_AUTO};
@@ -169,6 +169,8 @@ pub struct Drive {
     probe: usize,
     /// Means and extrema over the last call of [`Drive::advance`].
     interval: IntervalAccumulator,
+    /// Where the interval keeps its start state (`IntervalAccumulator::continue_at`).
+    interval_starts: StartStates,
     /// The integrator's step past the drive's time, if it took one.
     ahead: Ahead,
     /// Whether [`Drive::advance`] may step past its target time.
@@ -239,6 +241,7 @@ impl Drive {
             warnings,
             probe,
             interval,
+            interval_starts: [vec![0.0; dim], vec![0.0; dim]],
             ahead: Ahead::new(dim, params.belt.n_bodies),
             look_ahead: true,
             clip_next: false,
@@ -346,8 +349,9 @@ impl Drive {
                 if w.to_bits() != w_before.to_bits() {
                     let o = self.sys.state_layout().pulley(j).speed;
                     same = false;
+                    self.interval
+                        .invalidate(&self.sys, &self.interval_starts, &self.y);
                     self.y[o] = w;
-                    self.interval.invalidate();
                 }
             }
         }
@@ -392,7 +396,8 @@ impl Drive {
         }
         let start = self.t;
         let before = self.interval.clone();
-        self.interval.continue_at(&self.sys, self.t, &self.y);
+        self.interval
+            .continue_at(&self.sys, self.t, &self.y, &mut self.interval_starts);
         let a = &mut self.ahead;
         // a target within the step taken past: no step
         let within = a.active && t_end <= a.t_b;
@@ -462,7 +467,7 @@ impl Drive {
         }
         self.t = t_end;
         self.clip_next = false;
-        self.interval.step_end(&self.sys, self.t, &self.y);
+        self.interval.point_end(&self.sys, self.t, &self.y);
         self.window.start = start;
         for (j, w) in omega.iter().enumerate().take(self.sys.np) {
             self.window.omega_change[j] = self.sys.pulley_speed(j, self.t, &self.y) - w;
@@ -508,8 +513,9 @@ impl Drive {
             self.t,
         ) {
             Ok(_) => {
+                self.interval
+                    .invalidate(&self.sys, &self.interval_starts, &self.y);
                 self.y[..q].copy_from_slice(&a.y_b[..q]);
-                self.interval.invalidate();
             }
             Err(_) => self.integrator.state_changed(),
         }
@@ -591,7 +597,10 @@ impl Drive {
             }
         }
         out.extend(self.integrator.save(&self.sys, &self.point()));
-        self.interval.save(&mut out);
+        let belt_min = self
+            .interval
+            .belt_min_tension(&self.sys, &self.interval_starts, &self.y);
+        self.interval.save(&mut out, belt_min);
         out
     }
 
@@ -689,8 +698,9 @@ impl Drive {
             return false;
         }
         self.ahead.active = false;
+        self.interval
+            .invalidate(&self.sys, &self.interval_starts, &self.y);
         self.y.copy_from_slice(y);
-        self.interval.invalidate();
         self.integrator.state_changed();
         true
     }
@@ -730,7 +740,8 @@ impl Drive {
             arm.free_angle = a;
         }
         // the spring torques the interval outputs sampled have changed
-        self.interval.invalidate();
+        self.interval
+            .invalidate(&self.sys, &self.interval_starts, &self.y);
         self.integrator.state_changed();
         true
     }

@@ -185,8 +185,9 @@ impl Drive {
     /// rotor speeds, the arms' angles, rates and spring torques, the means
     /// over a non-empty window (impulses over its duration), the span
     /// slips, the probe's position, the input energy and the interval
-    /// outputs. Every other field is zero; so are the means of an empty
-    /// window (they are the instantaneous forces).
+    /// outputs but the belt's smallest tension (NaN here). Every other
+    /// field is zero; so are the means of an empty window (they are the
+    /// instantaneous forces).
     pub fn state_outputs(&self) -> Outputs {
         let mut out = Outputs::default();
         let np = self.sys.np;
@@ -240,6 +241,8 @@ impl Drive {
         }
         out.energy_input = self.y[states.energy().work_in];
         out.interval = self.interval.outputs();
+        // taken only when read: Self::add_evaluated_outputs
+        out.interval.belt_min_tension = f64::NAN;
         out
     }
 
@@ -247,10 +250,14 @@ impl Drive {
     /// a pass over the belt: one recorded evaluation of the forces and the
     /// energy sums (torques, accelerations, hub forces, tensions, the
     /// probe's forces, powers, energies, and the means of an empty window,
-    /// the instantaneous values), and the mid-span deflections (a search
-    /// along the belt per span).
+    /// the instantaneous values), the mid-span deflections (a search along
+    /// the belt per span) and the belt's smallest tension over the
+    /// interval (a pass over the belt at its ends).
     pub fn add_evaluated_outputs(&mut self, out: &mut Outputs) {
         let np = self.sys.np;
+        self.interval
+            .settle(&self.sys, &self.interval_starts, &self.y);
+        out.interval.belt_min_tension = self.interval.outputs().belt_min_tension;
         let mut span_mid = [[0.0; 2]; MAX_PULLEYS];
         for (k, mid) in span_mid.iter_mut().enumerate().take(np) {
             if let Some(s) = self.layout.span_between(k, (k + 1) % np) {

@@ -62,7 +62,7 @@ fn no_code(var: Var, code: i32) -> String {
 
 /// Whether output `var` takes a pass over the belt
 /// ([`Drive::add_evaluated_outputs`]: forces, energies, mid-span
-/// deflections); the means do only over an empty window, where they are the
+/// deflections, the belt's smallest tension over the interval); the means do only over an empty window, where they are the
 /// instantaneous values.
 fn needs_evaluation(var: Var, window_empty: bool) -> bool {
     match var {
@@ -79,7 +79,6 @@ fn needs_evaluation(var: Var, window_empty: bool) -> bool {
         | Var::SpanMeanTension
         | Var::SpanMinTension
         | Var::SpanMaxTension
-        | Var::BeltIntervalMinTension
         | Var::PulleyArmMeanSpringTorque
         | Var::ProbeX
         | Var::ProbeY
