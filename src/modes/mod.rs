@@ -93,10 +93,7 @@ pub struct ArmSwing {
 /// Share of a mode's kinetic energy in the swing of the arm carrying
 /// pulley `j` (0-based).
 fn arm_share(m: &Mode, j: usize) -> f64 {
-    m.shares
-        .iter()
-        .find(|(p, _)| *p == Part::Arm(j + 1))
-        .map_or(0.0, |(_, e)| *e)
+    m.share_of(Part::Arm(j + 1))
 }
 
 /// Modes of `drive` at its state now ([`adapter::linearise`] and
@@ -316,6 +313,14 @@ pub struct Mode {
 pub const COMPANION_SHARE: f64 = 0.1;
 
 impl Mode {
+    /// Share of the mode's kinetic energy in `part` (0 if it has none).
+    pub fn share_of(&self, part: Part) -> f64 {
+        self.shares
+            .iter()
+            .find(|(p, _)| *p == part)
+            .map_or(0.0, |(_, e)| *e)
+    }
+
     /// The pulley rotation or arm swing with the largest share of the
     /// energy, if it carries at least [`COMPANION_SHARE`] and is not the
     /// label itself.
