@@ -188,7 +188,6 @@ fn belt_minimum_read_now_and_then_is_the_one_read_every_step() {
         // method's steps (about 0.25 ms) hold many 20 us intervals with no
         // step inside, whose minimum is at one of their ends
         let h = if method == 1 { 2e-4 } else { 2e-5 };
-        let mut saved = None;
         let mut reads = 0;
         for k in 0..80 {
             let t = k as f64 * h;
@@ -201,36 +200,31 @@ fn belt_minimum_read_now_and_then_is_the_one_read_every_step() {
                 want[0].to_bits(),
                 "method {method}, step {k}"
             );
-            if k == 40 {
-                // saved with the interval's minimum not read yet
-                let s = sparse.get_state();
-                saved = Some(sparse.serialize(s));
-                sparse.free_state(s);
-            }
-            if k % 3 == 2 {
-                let got = sparse.get(&["belt.intervalMinTension"]);
+            let same_minimum = |got: f64, who: &str| {
                 assert_eq!(
-                    got[0].to_bits(),
+                    got.to_bits(),
                     want[1].to_bits(),
-                    "method {method}, step {k}: {} vs {}",
-                    got[0],
+                    "method {method}, step {k}, {who}: {got} vs {}",
                     want[1]
+                );
+            };
+            if k % 3 == 2 {
+                same_minimum(
+                    sparse.get(&["belt.intervalMinTension"])[0],
+                    "read now and then",
                 );
                 reads += 1;
-            }
-            if k == 40 {
+            } else if k == 40 {
+                // saved with the interval's minimum not read yet, restored
+                // into a copy that reads it
+                let s = sparse.get_state();
+                let saved = sparse.serialize(s);
+                sparse.free_state(s);
                 let copy = Instance::initialized_with(&fmi, &[("solver.method", method)], &[]);
-                let (status, s) = copy.deserialize(saved.as_ref().expect("saved"));
+                let (status, s) = copy.deserialize(&saved);
                 assert_eq!(status, OK);
                 assert_eq!(unsafe { (fmi.set_state)(copy.c, s) }, OK);
-                let got = copy.get(&["belt.intervalMinTension"]);
-                assert_eq!(
-                    got[0].to_bits(),
-                    want[1].to_bits(),
-                    "method {method}: restored copy: {} vs {}",
-                    got[0],
-                    want[1]
-                );
+                same_minimum(copy.get(&["belt.intervalMinTension"])[0], "restored copy");
                 copy.free_state(s);
             }
         }

@@ -63,6 +63,17 @@ impl Ahead {
         }
     }
 
+    /// Whether the step past gives `y` (the controlled coordinates) at
+    /// time `t`, to the bit.
+    fn leads_to(&self, t: f64, y: &[f64]) -> bool {
+        let mut at = self.y_b.clone();
+        self.interpolate(t, &mut at);
+        at[..y.len()]
+            .iter()
+            .zip(y)
+            .all(|(a, b)| a.to_bits() == b.to_bits())
+    }
+
     /// The state at time `t` in [t_a, t_b]: the step's cubic Hermite
     /// interpolant (Hairer, Norsett & Wanner I, II.6: third order, through
     /// both ends with their slopes) for every state but the belt bodies'
@@ -78,17 +89,6 @@ impl Ahead {
     /// the belt torques and span tensions at the point are as accurate as
     /// the clipped step's on the accessory drive, and within 0.3 % of the
     /// belt torque on the 5PK drive.
-    /// Whether the step past gives `y` (the controlled coordinates) at
-    /// time `t`, to the bit.
-    fn leads_to(&self, t: f64, y: &[f64]) -> bool {
-        let mut at = self.y_b.clone();
-        self.interpolate(t, &mut at);
-        at[..y.len()]
-            .iter()
-            .zip(y)
-            .all(|(a, b)| a.to_bits() == b.to_bits())
-    }
-
     fn interpolate(&self, t: f64, out: &mut [f64]) {
         let h = self.t_b - self.t_a;
         let s = (t - self.t_a) / h;

@@ -600,8 +600,7 @@ impl Arm {
     #[inline(always)]
     pub fn pivot_friction(&self, z: f64, rate: f64, hub: [f64; 2]) -> PivotFriction {
         let f = hub[0].hypot(hub[1]);
-        let (mut law, torque_by_m) =
-            self.presliding(z, rate, self.friction + self.hub_friction * f);
+        let (mut law, torque_by_m) = self.presliding(z, rate, self.friction_torque_at(f));
         // d torque / d F_hub = d torque / d M_f d M_f / d F_hub, d M_f / d F
         // = mu_h r_f F / |F| (none at a zero hub force)
         if f > 0.0 && torque_by_m != 0.0 {
@@ -677,7 +676,13 @@ impl Arm {
     /// The pivot friction's torque scale under the hub force `hub`: M_c +
     /// mu_h r_f |F_hub| [N m], the Coulomb torque once the arm slides.
     pub fn friction_torque(&self, hub: [f64; 2]) -> f64 {
-        self.friction + self.hub_friction * hub[0].hypot(hub[1])
+        self.friction_torque_at(hub[0].hypot(hub[1]))
+    }
+
+    /// [`Self::friction_torque`] at the hub force's magnitude `f` [N].
+    #[inline(always)]
+    fn friction_torque_at(&self, f: f64) -> f64 {
+        self.friction + self.hub_friction * f
     }
 
     /// Equivalent viscous damping [N m s/rad] of the pivot friction
