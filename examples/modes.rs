@@ -169,7 +169,7 @@ fn run() -> Result<(), String> {
             if s.stuck {
                 eprintln!(
                     "arm {}: pivot friction {:.3} N m sticks it at a swing of {:.3} deg \
-                     (no oscillating arm mode)",
+                     (a tap of the arm creeps back: no swing)",
                     s.pulley,
                     s.friction_torque,
                     o.arm_amplitude.to_degrees()
@@ -177,7 +177,7 @@ fn run() -> Result<(), String> {
             } else {
                 eprintln!(
                     "arm {}: pivot friction {:.3} N m at a swing of {:.3} deg and {:.2} Hz \
-                     acts as a damper of {:.4} N m s/rad (describing function{})",
+                     (a tap's swing) acts as a damper of {:.4} N m s/rad (describing function{})",
                     s.pulley,
                     s.friction_torque,
                     o.arm_amplitude.to_degrees(),
@@ -186,8 +186,8 @@ fn run() -> Result<(), String> {
                     if s.converged {
                         ""
                     } else {
-                        "; the frequency did not settle: the arm shares its modes, \
-                         the damper is the last iteration's"
+                        "; the swing did not settle within the iteration's steps: \
+                         the damper is the last step's"
                     }
                 );
             }

@@ -127,7 +127,11 @@ pub fn passing_period(lin: &Linearisation) -> (f64, f64) {
 
 /// Sparse `scale * J + diag * I` from the dense row-major Jacobian (the
 /// Jacobian of the chain is banded, plus the pulleys' rows and columns).
-fn sparse(lin: &Linearisation, scale: f64, diag: f64) -> Result<SparseColMat<usize, f64>, String> {
+pub(super) fn sparse(
+    lin: &Linearisation,
+    scale: f64,
+    diag: f64,
+) -> Result<SparseColMat<usize, f64>, String> {
     let dim = lin.dim;
     let mut entries = Vec::new();
     for r in 0..dim {
@@ -678,6 +682,7 @@ pub fn floquet_settled(
             let evd = Eigen::new_from_real(m.as_ref())
                 .map_err(|e| format!("eigen-decomposition failed: {e:?}"))?;
             let mut out = floquet_modes(&mono, &evd, period, substeps, opts)?;
+            out.arm_taps = super::tap::running(&m, &lin, period);
             out.orbit = Some(Orbit {
                 period,
                 defects,

@@ -27,8 +27,10 @@ pub mod degenerate;
 pub mod floquet;
 pub mod mechanism;
 pub mod params;
+pub mod tap;
 
 pub use floquet::{floquet, Orbit, FLOQUET_SUBSTEPS, SDIRK_GAMMA};
+pub use tap::Tap;
 
 use crate::model::params::MAX_PULLEYS;
 use adapter::Linearisation;
@@ -77,13 +79,13 @@ pub struct ArmSwing {
     pub pulley: usize,
     /// Its pivot friction's torque M_c + mu_h r_f |F_hub| [N m].
     pub friction_torque: f64,
-    /// Frequency of the swing the damping is taken at: the arm mode's
-    /// damped frequency, iterated to consistency [Hz].
+    /// Frequency of the swing the damping is taken at: the swing of the
+    /// arm's tap with that damping ([`tap`]), iterated to consistency [Hz].
     pub frequency_hz: f64,
     /// The friction's equivalent viscous damping at that swing [N m s/rad].
     pub equivalent_damping: f64,
-    /// No oscillating mode carries the arm at this amplitude: the friction
-    /// overdamps it (below break-away the arm sticks).
+    /// The arm does not swing at this amplitude (its tap creeps back): the
+    /// friction overdamps it (below break-away the arm sticks).
     pub stuck: bool,
     /// The iteration on the frequency ended within its tolerance (false:
     /// stopped at its iteration limit, the damper at the last frequency).
@@ -103,7 +105,12 @@ fn arm_share(m: &Mode, j: usize) -> f64 {
 /// arms or with `arm_amplitude` 0: [`analyse`] of [`adapter::linearise`].
 pub fn analyse_drive(drive: &crate::Drive, opts: &Options) -> Result<Modes, String> {
     describe_arms(drive, opts, ARM_FREQUENCY_TOL, 50, |equivalent| {
-        analyse(&adapter::linearise_with(drive, equivalent), opts)
+        let lin = adapter::linearise_with(drive, equivalent);
+        let mut modes = analyse(&lin, opts)?;
+        if !opts.transport {
+            modes.arm_taps = tap::at_rest(&lin)?;
+        }
+        Ok(modes)
     })
 }
 
@@ -122,15 +129,22 @@ pub const ARM_FREQUENCY_TOL: f64 = 1e-6;
 /// law's own, which tends to it for swings far beyond the presliding
 /// deflection), M_f at the drive's hub forces now. `solve` analyses the
 /// drive with arm j's friction replaced by a damper `equivalent[j]`
-/// ([`adapter::linearise_with`]). omega is the arm mode's damped
-/// frequency: started from the frictionless arm's (the oscillating mode
-/// with the largest share of its energy in the arm), iterated until it
-/// changes by less than `tolerance` (at most `iterations` times, then
-/// reported not `converged`); an arm whose mode
-/// the friction overdamps (no oscillating mode left with half the
-/// frictionless arm's share) is reported `stuck` (the modes then those
-/// with its friction at the last frequency). Without frictional arms or with
-/// `arm_amplitude` 0: `solve` with the friction as it is (no replacement).
+/// ([`adapter::linearise_with`]). omega is the frequency of the arm's
+/// swing after a tap with that damper ([`Modes::arm_taps`], [`tap`]; in
+/// the frozen-time approximation, which has no tap, the damped frequency
+/// of the oscillating mode with the largest share of the arm's energy):
+/// the frequency f the damper is set at must be the swing g(f) it gives.
+/// Started from the frictionless arm's swing, each iteration sets the
+/// damper at the next f: the swing itself until f and g(f) have been seen
+/// on both sides (g > f and g < f), then the secant within that bracket
+/// (Illinois' rule), until f changes by less than `tolerance` (at most
+/// `iterations` times, then reported not `converged`; a plain iteration f
+/// = g(f) went round a cycle of two). An arm whose tap does not swing
+/// before a bracket is found is reported `stuck`: the friction overdamps
+/// it at this amplitude (the modes then those with its friction at the
+/// last frequency); no swing after one counts as a swing at 0 Hz. Without
+/// frictional arms or with `arm_amplitude` 0: `solve` with the friction as
+/// it is (no replacement).
 pub fn describe_arms(
     drive: &crate::Drive,
     opts: &Options,
@@ -163,29 +177,75 @@ pub fn describe_arms(
     // friction's damper is set by (in steady running the arm shares its
     // modes with the spans)
     let mut frictionless = [0.0; MAX_PULLEYS];
+    // per arm, the swings measured so far either side of the fixed point:
+    // (frequency the damper was set at, swing - frequency) with the swing
+    // faster (`lo`) and slower (`hi`), and which side moved last
+    let mut lo = [None::<(f64, f64)>; MAX_PULLEYS];
+    let mut hi = [None::<(f64, f64)>; MAX_PULLEYS];
+    let mut last_lo = [None::<bool>; MAX_PULLEYS];
     for _ in 0..iterations {
         let mut moved: f64 = 0.0;
         for s in swings.iter_mut().filter(|s| !s.stuck) {
             let j = s.pulley - 1;
-            // the oscillating mode that swings the arm most; once the
-            // friction is in, none carrying half the frictionless arm's
-            // share: overdamped, the arm sticks
-            let best = modes
-                .modes
-                .iter()
-                .max_by(|a, b| arm_share(a, j).total_cmp(&arm_share(b, j)))
-                .filter(|m| arm_share(m, j) > 0.5 * frictionless[j]);
-            let Some(m) = best else {
+            let swing = match modes.arm_taps[j] {
+                Some(Tap::Swings(f)) => Some(f),
+                Some(Tap::Overdamped) => None,
+                // the frozen-time approximation: the oscillating mode that
+                // swings the arm most; once the friction is in, none
+                // carrying half the frictionless arm's share: overdamped
+                None => {
+                    let best = modes
+                        .modes
+                        .iter()
+                        .max_by(|a, b| arm_share(a, j).total_cmp(&arm_share(b, j)))
+                        .filter(|m| arm_share(m, j) > 0.5 * frictionless[j]);
+                    if let (Some(m), 0.0) = (best, s.frequency_hz) {
+                        frictionless[j] = arm_share(m, j);
+                    }
+                    best.map(|m| m.damped_hz)
+                }
+            };
+            let f = s.frequency_hz;
+            let next = if f == 0.0 {
+                // the frictionless arm's swing starts the iteration
+                swing
+            } else {
+                // the residual swing - f; no swing counts as a swing at 0
+                let r = swing.map_or(-f, |g| g - f);
+                let is_lo = r > 0.0;
+                // Illinois: a side kept twice in a row has its residual halved
+                if last_lo[j] == Some(is_lo) {
+                    let keep = if is_lo { &mut hi[j] } else { &mut lo[j] };
+                    if let Some((_, rk)) = keep.as_mut() {
+                        *rk *= 0.5;
+                    }
+                }
+                last_lo[j] = Some(is_lo);
+                if is_lo {
+                    lo[j] = Some((f, r));
+                } else {
+                    hi[j] = Some((f, r));
+                }
+                match (lo[j], hi[j]) {
+                    (Some((fl, rl)), Some((fh, rh))) => {
+                        let x = fl - rl * (fh - fl) / (rh - rl);
+                        Some(if x > fl.min(fh) && x < fl.max(fh) {
+                            x
+                        } else {
+                            0.5 * (fl + fh)
+                        })
+                    }
+                    _ => swing,
+                }
+            };
+            let Some(next) = next else {
                 s.stuck = true;
                 continue;
             };
-            if s.frequency_hz == 0.0 {
-                frictionless[j] = arm_share(m, j);
-            }
-            let f = m.damped_hz;
-            moved = moved.max((f / s.frequency_hz - 1.0).abs());
-            s.frequency_hz = f;
-            s.equivalent_damping = adapter::arm_describing(drive, j, opts.arm_amplitude, TAU * f);
+            moved = moved.max((next / f - 1.0).abs());
+            s.frequency_hz = next;
+            s.equivalent_damping =
+                adapter::arm_describing(drive, j, opts.arm_amplitude, TAU * next);
             equivalent[j] = Some(s.equivalent_damping);
         }
         modes = solve(&equivalent)?;
@@ -375,6 +435,11 @@ pub struct Modes {
     /// its pivot friction was replaced by ([`describe_arms`]); empty when
     /// the friction was linearised as it is.
     pub arms: Vec<ArmSwing>,
+    /// How each tensioner arm (by pulley, 0-based) swings after a tap of
+    /// its rate in the linearised drive ([`tap`]): at rest and in the
+    /// Floquet analysis; `None` for pulleys without arm and in the
+    /// frozen-time approximation.
+    pub arm_taps: [Option<Tap>; MAX_PULLEYS],
 }
 
 /// Where a body is: on pulley j's wrap or on span k (0-based).
