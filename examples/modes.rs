@@ -177,11 +177,16 @@ fn run() -> Result<(), String> {
             } else {
                 eprintln!(
                     "arm {}: pivot friction {:.3} N m at a swing of {:.3} deg and {:.2} Hz \
-                     (a tap's swing) acts as a damper of {:.4} N m s/rad (describing function{})",
+                     ({}) acts as a damper of {:.4} N m s/rad (describing function{})",
                     s.pulley,
                     s.friction_torque,
                     o.arm_amplitude.to_degrees(),
                     s.frequency_hz,
+                    if a.frozen && o.transport {
+                        "the arm mode's damped frequency"
+                    } else {
+                        "a tap's swing"
+                    },
                     s.equivalent_damping,
                     if s.converged {
                         ""
