@@ -173,16 +173,10 @@ pub fn describe_arms(
         })
         .collect();
     let mut modes = solve(&equivalent)?;
-    // the frictionless arm's share of its mode's energy: the mode the
-    // friction's damper is set by (in steady running the arm shares its
-    // modes with the spans)
+    // the frozen-time rule's reference: the frictionless arm's share of its
+    // mode's energy
     let mut frictionless = [0.0; MAX_PULLEYS];
-    // per arm, the swings measured so far either side of the fixed point:
-    // (frequency the damper was set at, swing - frequency) with the swing
-    // faster (`lo`) and slower (`hi`), and which side moved last
-    let mut lo = [None::<(f64, f64)>; MAX_PULLEYS];
-    let mut hi = [None::<(f64, f64)>; MAX_PULLEYS];
-    let mut last_lo = [None::<bool>; MAX_PULLEYS];
+    let mut fixed = [FixedPoint::default(); MAX_PULLEYS];
     for _ in 0..iterations {
         let mut moved: f64 = 0.0;
         for s in swings.iter_mut().filter(|s| !s.stuck) {
@@ -206,37 +200,11 @@ pub fn describe_arms(
                 }
             };
             let f = s.frequency_hz;
+            // the frictionless arm's swing starts the iteration
             let next = if f == 0.0 {
-                // the frictionless arm's swing starts the iteration
                 swing
             } else {
-                // the residual swing - f; no swing counts as a swing at 0
-                let r = swing.map_or(-f, |g| g - f);
-                let is_lo = r > 0.0;
-                // Illinois: a side kept twice in a row has its residual halved
-                if last_lo[j] == Some(is_lo) {
-                    let keep = if is_lo { &mut hi[j] } else { &mut lo[j] };
-                    if let Some((_, rk)) = keep.as_mut() {
-                        *rk *= 0.5;
-                    }
-                }
-                last_lo[j] = Some(is_lo);
-                if is_lo {
-                    lo[j] = Some((f, r));
-                } else {
-                    hi[j] = Some((f, r));
-                }
-                match (lo[j], hi[j]) {
-                    (Some((fl, rl)), Some((fh, rh))) => {
-                        let x = fl - rl * (fh - fl) / (rh - rl);
-                        Some(if x > fl.min(fh) && x < fl.max(fh) {
-                            x
-                        } else {
-                            0.5 * (fl + fh)
-                        })
-                    }
-                    _ => swing,
-                }
+                fixed[j].next(f, swing)
             };
             let Some(next) = next else {
                 s.stuck = true;
@@ -256,6 +224,54 @@ pub fn describe_arms(
     }
     modes.arms = swings;
     Ok(modes)
+}
+
+/// One arm's describing-function iteration ([`describe_arms`]): the
+/// frequency f the damper is set at and the swing g(f) it gives, with the
+/// points seen so far either side of the fixed point g(f) = f, as (f, g -
+/// f): `lo` where the swing is faster, `hi` where it is slower.
+#[derive(Clone, Copy, Debug, Default)]
+struct FixedPoint {
+    lo: Option<(f64, f64)>,
+    hi: Option<(f64, f64)>,
+    /// Which side the last point fell on.
+    last_lo: Option<bool>,
+}
+
+impl FixedPoint {
+    /// The frequency to set the damper at next, after the damper set at
+    /// `f` gave the swing `g` (None: no swing, counted as a swing at 0 Hz):
+    /// the swing itself until both sides are known, then the secant within
+    /// the bracket (Illinois' rule: a side kept twice in a row has its
+    /// residual halved; the bisection if the secant leaves the bracket).
+    /// None: no swing and no point on the faster side, the arm sticks.
+    fn next(&mut self, f: f64, g: Option<f64>) -> Option<f64> {
+        let r = g.map_or(-f, |g| g - f);
+        let is_lo = r > 0.0;
+        if self.last_lo == Some(is_lo) {
+            let kept = if is_lo { &mut self.hi } else { &mut self.lo };
+            if let Some((_, rk)) = kept.as_mut() {
+                *rk *= 0.5;
+            }
+        }
+        self.last_lo = Some(is_lo);
+        if is_lo {
+            self.lo = Some((f, r));
+        } else {
+            self.hi = Some((f, r));
+        }
+        match (self.lo, self.hi) {
+            (Some((fl, rl)), Some((fh, rh))) => {
+                let x = fl - rl * (fh - fl) / (rh - rl);
+                Some(if x > fl.min(fh) && x < fl.max(fh) {
+                    x
+                } else {
+                    0.5 * (fl + fh)
+                })
+            }
+            _ => g,
+        }
+    }
 }
 
 /// What moves most in a mode (by kinetic energy).
