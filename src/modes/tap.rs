@@ -102,20 +102,20 @@ fn swing(steps: usize, dt: f64, mut next: impl FnMut() -> f64) -> Tap {
     // samples from the tap on, until one past the second sign change
     let mut a = Vec::with_capacity(steps + 1);
     a.push(0.0);
-    let mut changes = 0;
+    let (mut changes, mut second) = (0, None);
     for k in 1..=steps {
         a.push(next());
-        if changes == 2 {
+        if second.is_some() {
             break;
         }
         if k > 1 && (a[k] < 0.0) != (a[k - 1] < 0.0) {
             changes += 1;
+            if changes == 2 {
+                second = Some(k);
+            }
         }
     }
-    match (2..a.len())
-        .filter(|&k| (a[k] < 0.0) != (a[k - 1] < 0.0))
-        .nth(1)
-    {
+    match second {
         Some(k) => Tap::Swings(1.0 / (crossing(&a, k) * dt)),
         None => Tap::Overdamped,
     }
