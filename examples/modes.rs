@@ -8,7 +8,7 @@
 //! ```text
 //! cargo run --release --features modes --example modes -- [--ssv FILE] [--set NAME=VALUE ...]
 //!     [--speeds FROM:TO:N] [--at TIME] [--fmax HZ] [--out FILE] [--frozen]
-//!     [--arm-amplitude DEG] [--idle-loads]
+//!     [--arm-amplitude DEG] [--idle-loads] [--mesh-check BODIES]
 //! ```
 //!
 //! `--arm-amplitude DEG` (default 0.5): the swing of the tensioner arms at
@@ -24,6 +24,10 @@
 //! torques they take at the set's speed (the set's loads grow with the
 //! speed squared). At each running speed the console names the growing
 //! modes' cause where the mesh explains it (`belt_drive::modes::mechanism`).
+//! `--mesh-check BODIES`: at each running speed with a growing mode, the
+//! analysis is repeated with `belt.nBodies` = BODIES (1.5 times the drive's
+//! is a good choice) and each growing mode is said to grow there too (the
+//! drive's) or not (the discrete belt's).
 
 use belt_drive::modes::{
     adapter, analyse_drive, floquet, mechanism, params, Modes, Options, ARM_AMPLITUDE,
@@ -44,11 +48,12 @@ struct Args {
     frozen: bool,
     arm_amplitude: f64,
     idle_loads: bool,
+    mesh_check: Option<usize>,
 }
 
 const USAGE: &str = "usage: modes [--ssv FILE] [--set NAME=VALUE ...] [--speeds FROM:TO:N] \
                      [--at TIME] [--fmax HZ] [--out FILE] [--frozen] [--arm-amplitude DEG] \
-                     [--idle-loads]";
+                     [--idle-loads] [--mesh-check BODIES]";
 
 fn parse() -> Result<Args, String> {
     let mut a = Args {
@@ -61,6 +66,7 @@ fn parse() -> Result<Args, String> {
         frozen: false,
         arm_amplitude: ARM_AMPLITUDE,
         idle_loads: false,
+        mesh_check: None,
     };
     let mut it = std::env::args().skip(1);
     while let Some(k) = it.next() {
@@ -86,6 +92,13 @@ fn parse() -> Result<Args, String> {
                 a.arm_amplitude = deg.to_radians();
             }
             "--idle-loads" => a.idle_loads = true,
+            "--mesh-check" => {
+                let s = val()?;
+                let n: usize = s
+                    .parse()
+                    .map_err(|e| format!("--mesh-check {s}: BODIES: {e}"))?;
+                a.mesh_check = Some(n);
+            }
             "--speeds" => {
                 let s = val()?;
                 let p: Vec<&str> = s.split(':').collect();
@@ -134,26 +147,10 @@ fn run() -> Result<(), String> {
         let mut at = a.at.unwrap_or(0.0);
         let mut o = opts;
         if let Some(w) = speed {
-            let crank = &mut p.pulleys[0];
-            if !crank.speed_driven {
-                return Err(
-                    "--speeds sets the crank speed, pulley 1's: it must be speed-driven \
-                            (--set pulley[1].speedDriven=true)"
-                        .into(),
-                );
-            }
-            // keep the set's direction of rotation
-            let own = crank.omega_ramp.abs();
-            crank.omega_ramp = w.copysign(crank.omega_ramp);
-            at = a.at.unwrap_or(crank.ramp_time + 0.3);
+            let start = params::at_crank_speed(&mut p, w, a.idle_loads)
+                .map_err(|e| format!("--speeds: {e}"))?;
+            at = a.at.unwrap_or(start);
             o.transport = w > 0.0;
-            if a.idle_loads && own > 0.0 && w > 0.0 {
-                // each speed-proportional load keeps the torque it takes at
-                // the set's own crank speed
-                for q in &mut p.pulleys[1..] {
-                    q.load_damping *= own / w;
-                }
-            }
         }
         let t0 = Instant::now();
         let mut drive = adapter::build(&p)?;
@@ -165,6 +162,7 @@ fn run() -> Result<(), String> {
         } else {
             analyse_drive(&drive, &o)?
         };
+        let t_modes = t1.elapsed().as_secs_f64();
         for s in &modes.arms {
             if s.stuck {
                 eprintln!(
@@ -228,6 +226,41 @@ fn run() -> Result<(), String> {
                     mechanism::explain(mode, cause, orbit.period)
                 );
             }
+            let growing = mechanism::growing(&modes);
+            if let (Some(bodies), false) = (a.mesh_check, growing.is_empty()) {
+                // the same analysis with another mesh: does the growth stay?
+                let mut q = p.clone();
+                q.belt.n_bodies = bodies;
+                let mut finer_drive = adapter::build(&q)?;
+                adapter::run_to(&mut finer_drive, at)?;
+                let finer = floquet(&finer_drive, &o, FLOQUET_SUBSTEPS)?;
+                if let Some(orbit) = finer.orbit.as_ref().filter(|o| !periodic(o)) {
+                    eprintln!(
+                        "speed {w:.1} rad/s: mesh check: WARNING: with {bodies} bodies the drive \
+                         did not settle onto a periodic running state (defect {:.1e}): the \
+                         comparison below is about a trajectory near it",
+                        orbit.defect()
+                    );
+                }
+                for (mode, _) in &growing {
+                    eprintln!(
+                        "speed {w:.1} rad/s: mesh check: {}",
+                        mechanism::explain_finer(
+                            mode,
+                            mechanism::on_finer_mesh(mode, &finer),
+                            bodies
+                        )
+                    );
+                }
+                for (mode, cause) in mechanism::growing(&finer) {
+                    if let Some(orbit) = &finer.orbit {
+                        eprintln!(
+                            "speed {w:.1} rad/s: mesh check: with {bodies} bodies, {}",
+                            mechanism::explain(mode, cause, orbit.period)
+                        );
+                    }
+                }
+            }
             for line in mechanism::mesh_resonances(&drive) {
                 eprintln!("speed {w:.1} rad/s: mesh check: {line}");
             }
@@ -243,7 +276,7 @@ fn run() -> Result<(), String> {
             modes.removed_states,
             modes.reduced_dim,
             modes.reduced_dim,
-            t1.elapsed().as_secs_f64(),
+            t_modes,
             t_run
         );
         rows.push((w, modes));

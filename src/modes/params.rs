@@ -53,3 +53,30 @@ pub fn drive_params(ssv: Option<&Path>, sets: &[String]) -> Result<DriveParams, 
     }
     m.drive_params()
 }
+
+/// `p` set to run its crank (pulley 1, which must be speed-driven) at
+/// `omega` [rad/s] in the set's own direction of rotation; with
+/// `idle_loads`, every speed-proportional load keeps the torque it takes at
+/// the set's own crank speed (its `loadDamping` scaled by that speed over
+/// `omega`: the sets' loads otherwise grow with the speed squared). Returns
+/// the time the analysis of steady running starts from: 0.3 s after the
+/// crank's ramp.
+pub fn at_crank_speed(p: &mut DriveParams, omega: f64, idle_loads: bool) -> Result<f64, String> {
+    let crank = &mut p.pulleys[0];
+    if !crank.speed_driven {
+        return Err(
+            "the analysis' speed is the crank's, pulley 1's: it must be speed-driven \
+             (--set pulley[1].speedDriven=true)"
+                .into(),
+        );
+    }
+    let own = crank.omega_ramp.abs();
+    crank.omega_ramp = omega.copysign(crank.omega_ramp);
+    let at = crank.ramp_time + 0.3;
+    if idle_loads && own > 0.0 && omega > 0.0 {
+        for q in &mut p.pulleys[1..] {
+            q.load_damping *= own / omega;
+        }
+    }
+    Ok(at)
+}
