@@ -56,6 +56,7 @@ use crate::drive::Window;
 use crate::model::params::MAX_PULLEYS;
 use crate::Drive;
 use faer::linalg::solvers::{Eigen, Solve};
+use faer::sparse::linalg::solvers::Lu;
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{c64, Mat};
 use std::f64::consts::TAU;
@@ -185,21 +186,14 @@ fn monodromy(
     let (mut tension, mut speed) = adapter::span_tensions_and_speed(drive);
     tension.iter_mut().for_each(|t| *t *= 0.5);
     speed *= 0.5;
-    let b = (1.0 - g) / g;
     for s in 1..=substeps {
-        // stage 1 at t + g h: (I - g h J1) Y1 = Phi
+        // the stages' Jacobians, at t + g h and t + h
         adapter::run_to(drive, t0 + (s as f64 - 1.0 + g) * h)?;
-        let (_, lu) = step_matrix(drive)?;
-        let mut y1 = phi.clone();
-        lu.solve_in_place(y1.as_mut());
-        // stage 2 at t + h: (I - g h J2) Y2 = Phi + (1 - g)/g (Y1 - Phi),
-        // and Phi(t + h) = Y2 (the method is stiffly accurate)
-        let mut next =
-            Mat::<f64>::from_fn(dim, dim, |r, c| (1.0 - b) * phi[(r, c)] + b * y1[(r, c)]);
+        let (_, lu1) = step_matrix(drive)?;
         adapter::run_to(drive, t0 + s as f64 * h)?;
-        let (lin, lu) = step_matrix(drive)?;
-        lu.solve_in_place(next.as_mut());
-        if !next.as_ref().is_all_finite() {
+        let (lin, lu2) = step_matrix(drive)?;
+        sdirk_step(&mut phi, &lu1, &lu2);
+        if !phi.as_ref().is_all_finite() {
             return Err("the variational equations diverged".into());
         }
         // The model resets the creep of a body that touches no pulley
@@ -208,11 +202,10 @@ fn monodromy(
             if lin.contact_of(i).is_none() {
                 let r = lin.body(i, 6);
                 for c in 0..dim {
-                    next[(r, c)] = 0.0;
+                    phi[(r, c)] = 0.0;
                 }
             }
         }
-        phi = next;
         let (t, v) = adapter::span_tensions_and_speed(drive);
         let w = if s == substeps { 0.5 } else { 1.0 };
         tension.iter_mut().zip(&t).for_each(|(a, b)| *a += w * b);
@@ -226,6 +219,23 @@ fn monodromy(
         span_tension: tension,
         belt_speed: speed / n,
     })
+}
+
+/// One step of Alexander's two-stage SDIRK method ([`SDIRK_GAMMA`]) for
+/// the linear x' = J(t) x, on the columns of `x`: (I - g h J1) Y1 = x, then
+/// (I - g h J2) Y2 = x + (1 - g)/g (Y1 - x), and x(t + h) = Y2 (the method
+/// is stiffly accurate). `lu1`, `lu2`: the factored I - g h J at t + g h
+/// and at t + h.
+pub(super) fn sdirk_step(x: &mut Mat<f64>, lu1: &Lu<usize, f64>, lu2: &Lu<usize, f64>) {
+    let b = (1.0 - SDIRK_GAMMA) / SDIRK_GAMMA;
+    let mut y1 = x.clone();
+    lu1.solve_in_place(y1.as_mut());
+    for c in 0..x.ncols() {
+        for r in 0..x.nrows() {
+            x[(r, c)] = (1.0 - b) * x[(r, c)] + b * y1[(r, c)];
+        }
+    }
+    lu2.solve_in_place(x.as_mut());
 }
 
 /// g = 1 - 1/sqrt(2) of Alexander's two-stage SDIRK method that integrates

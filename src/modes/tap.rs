@@ -16,10 +16,9 @@
 //! ([`Tap::Overdamped`]).
 
 use super::adapter::Linearisation;
-use super::floquet::{sparse, SDIRK_GAMMA};
+use super::floquet::{sdirk_step, sparse, SDIRK_GAMMA};
 use crate::model::params::MAX_PULLEYS;
-use faer::linalg::solvers::Solve;
-use faer::{Col, Mat};
+use faer::Mat;
 
 /// A tensioner arm's free response to a tap of its rate.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -49,18 +48,11 @@ pub fn at_rest(lin: &Linearisation) -> Result<[Option<Tap>; MAX_PULLEYS], String
     if lin.pulleys.iter().all(|p| p.arm.is_none()) {
         return Ok([None; MAX_PULLEYS]);
     }
-    let (g, h) = (SDIRK_GAMMA, REST_STEP);
-    let lu = sparse(lin, -g * h, 1.0)?
+    let h = REST_STEP;
+    let lu = sparse(lin, -SDIRK_GAMMA * h, 1.0)?
         .sp_lu()
         .map_err(|e| format!("the tap's step matrix is singular: {e:?}"))?;
-    let b = (1.0 - g) / g;
-    Ok(each_arm(lin, h, |x| {
-        let mut y1 = x.clone();
-        lu.solve_in_place(y1.as_mat_mut());
-        let mut y2 = Col::<f64>::from_fn(lin.dim, |r| (1.0 - b) * x[r] + b * y1[r]);
-        lu.solve_in_place(y2.as_mat_mut());
-        y2
-    }))
+    Ok(each_arm(lin, h, |x| sdirk_step(x, &lu, &lu)))
 }
 
 /// The tap in steady running: the perturbation carried from period to
@@ -68,15 +60,16 @@ pub fn at_rest(lin: &Linearisation) -> Result<[Option<Tap>; MAX_PULLEYS], String
 /// arm angle sampled at the period ends (at idle a period is an eighth to
 /// a tenth of a swing).
 pub fn running(m: &Mat<f64>, lin: &Linearisation, period: f64) -> [Option<Tap>; MAX_PULLEYS] {
-    each_arm(lin, period, |x| m * x)
+    each_arm(lin, period, |x| *x = m * &*x)
 }
 
 /// The swing of each arm of `lin`: its rate kicked by one unit and carried
-/// by `step` (the state one `dt` later) for up to [`TAP_HORIZON`].
+/// by `step` (the state, one column, carried on by `dt`) for up to
+/// [`TAP_HORIZON`].
 fn each_arm(
     lin: &Linearisation,
     dt: f64,
-    mut step: impl FnMut(&Col<f64>) -> Col<f64>,
+    mut step: impl FnMut(&mut Mat<f64>),
 ) -> [Option<Tap>; MAX_PULLEYS] {
     let mut out = [None; MAX_PULLEYS];
     let steps = (TAP_HORIZON / dt).ceil() as usize;
@@ -85,11 +78,11 @@ fn each_arm(
             continue;
         }
         let arm = lin.states.arm(j);
-        let mut x = Col::<f64>::zeros(lin.dim);
-        x[arm.rate] = 1.0;
+        let mut x = Mat::<f64>::zeros(lin.dim, 1);
+        x[(arm.rate, 0)] = 1.0;
         out[j] = Some(swing(steps, dt, || {
-            x = step(&x);
-            x[arm.angle]
+            step(&mut x);
+            x[(arm.angle, 0)]
         }));
     }
     out
