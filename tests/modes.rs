@@ -2263,8 +2263,8 @@ fn decay(response: &[f64], dt: f64, f: f64) -> (f64, Vec<String>) {
 /// growth at all at 4 points.)
 /// Tolerance 10 %: what limits the agreement is the analysis' own
 /// convergence in the substeps of its variational integration (this mode's
-/// zeta moves 0.1 % between 128 and 256 steps at 4 points, 7 % for the
-/// centre contact's span 3 mode, -0.0173 / -0.0186; docs/modes.md,
+/// zeta moves 0.1 % between 128 and 256 steps at 4 points, 8 % for the
+/// centre contact's unstable span 2 mode, -0.0137 / -0.0126; docs/modes.md,
 /// "Convergence in the substeps") and the fit (the rates over
 /// the first and the second half of the windows differ by 2.5 %; no
 /// window's log amplitude lies more than 0.06 from the line).
