@@ -30,7 +30,7 @@
 //! * `model-description` - writes `modelDescription/modelDescription.xml`
 //!   from the registry (`modelDescription/src/registry/table.rs`).
 //! * `modes -- [--ssv FILE] [--set NAME=VALUE ...] [--speeds FROM:TO:N] [--at TIME] [--range LO:HI]
-//!   [--arm-amplitude DEG]`:
+//!   [--arm-amplitude DEG] [--idle-loads] [--mesh-check BODIES]`:
 //!   the modal analysis (`examples/modes.rs`), `dist/modes.csv` and, with
 //!   `--speeds`, the Campbell diagram `dist/campbell.png` (docs/modes.md).
 //! * `layout -- [--ssv FILE] [--set NAME=VALUE ...] [--names A,B,...] [--out FILE.svg]`:
@@ -520,8 +520,10 @@ impl Setup {
 }
 
 /// `cargo xtask modes -- [--ssv FILE] [--set NAME=VALUE ...] [--speeds FROM:TO:N]
-/// [--at TIME] [--fmax HZ] [--out FILE] [--frozen] [--range LO:HI]`: the modal analysis
-/// (`examples/modes.rs`) writes the CSV (default `dist/modes.csv`); with
+/// [--at TIME] [--fmax HZ] [--out FILE] [--frozen] [--arm-amplitude DEG] [--idle-loads]
+/// [--mesh-check BODIES] [--range LO:HI]`: the modal analysis
+/// (`examples/modes.rs`, which takes every option but `--range`) writes the
+/// CSV (default `dist/modes.csv`); with
 /// `--speeds` the Campbell diagram is drawn beside it (`campbell.png`, by
 /// `examples/campbell.py` with matplotlib from `.venv`).
 fn modes(args: &[String]) -> Result<()> {
