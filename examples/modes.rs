@@ -118,6 +118,13 @@ fn parse() -> Result<Args, String> {
             _ => return Err(format!("unknown argument {k}; {USAGE}")),
         }
     }
+    if a.frozen && a.mesh_check.is_some() {
+        return Err(
+            "--mesh-check repeats the Floquet analysis of steady running, which --frozen \
+             replaces: drop one of them"
+                .into(),
+        );
+    }
     Ok(a)
 }
 
