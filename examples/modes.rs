@@ -238,9 +238,7 @@ fn run() -> Result<(), String> {
                 // the same analysis with another mesh: does the growth stay?
                 let mut q = p.clone();
                 q.belt.n_bodies = bodies;
-                let mut finer_drive = adapter::build(&q)?;
-                adapter::run_to(&mut finer_drive, at)?;
-                let finer = floquet(&finer_drive, &o, FLOQUET_SUBSTEPS)?;
+                let finer = floquet::after_run_up(&q, at, &o)?;
                 if let Some(orbit) = finer.orbit.as_ref().filter(|o| !periodic(o)) {
                     eprintln!(
                         "speed {w:.1} rad/s: mesh check: WARNING: with {bodies} bodies the drive \

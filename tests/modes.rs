@@ -2395,14 +2395,11 @@ fn growth_is_the_meshs(omega: f64) -> Vec<(f64, f64, mechanism::OnFinerMesh)> {
         let mut p = ssv("accessory-drive-4.ssv", &["solver.method=2"]);
         p.belt.n_bodies = bodies;
         let at = belt_drive::modes::params::at_crank_speed(&mut p, omega, true).expect("speed");
-        let mut drive = adapter::build(&p).expect("valid drive");
-        adapter::run_to(&mut drive, at).expect("run-up");
         let opts = Options {
             transport: true,
             ..Options::default()
         };
-        let m =
-            floquet::floquet(&drive, &opts, belt_drive::modes::FLOQUET_SUBSTEPS).expect("floquet");
+        let m = floquet::after_run_up(&p, at, &opts).expect("floquet");
         let orbit = m.orbit.as_ref().expect("the orbit");
         eprintln!(
             "{bodies} bodies at {omega} rad/s: period {:.4e} s, defects {:?}",

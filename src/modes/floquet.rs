@@ -632,6 +632,15 @@ pub fn floquet(run: &Drive, opts: &Options, substeps: usize) -> Result<Modes, St
     floquet_settled(&drive, defects, opts, substeps)
 }
 
+/// [`floquet`] of the drive `p` run from rest to time `at` (the modes
+/// tool's steady running: [`super::params::at_crank_speed`] gives `at`),
+/// with [`FLOQUET_SUBSTEPS`].
+pub fn after_run_up(p: &crate::DriveParams, at: f64, opts: &Options) -> Result<Modes, String> {
+    let mut drive = adapter::build(p)?;
+    adapter::run_to(&mut drive, at)?;
+    floquet(&drive, opts, FLOQUET_SUBSTEPS)
+}
+
 /// A copy of the running drive `run` at the analysis' tolerances, settled
 /// onto its periodic running state ([`settle`]), and the settling's
 /// defects: the state [`floquet`] linearises about (e.g. to follow the
