@@ -24,7 +24,7 @@ use crate::drive::Drive;
 /// How close a mode's frequency must lie to a multiple of f_bp / 2 to be
 /// read as driven by it, relative. The parametric resonance locks the
 /// mode's frequency to f_bp / 2 (the accessory drive's span 3 mode at idle:
-/// within 0.01 %); the analysis' frequencies move by up to 0.7 % between
+/// within 0.01 %); the analysis' frequencies move by up to 0.4 % between
 /// 128 and 256 steps (docs/modes.md, "Convergence in the substeps").
 pub const LOCK_TOLERANCE: f64 = 0.01;
 
