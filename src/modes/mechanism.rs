@@ -139,7 +139,10 @@ pub enum OnFinerMesh {
 /// analysis of the same drive and speed with more bodies. A continuous
 /// belt's instability does not depend on the mesh; one that a finer mesh
 /// removes comes from the bodies' passage (at 1/P or a combination of two
-/// modes with it) however its frequency relates to 1/P.
+/// modes with it) however its frequency relates to 1/P. The modes are
+/// matched by their label's part: a mode two spans share may be labelled
+/// after the other span on the other mesh (the console lists the finer
+/// mesh's growing modes beside the verdict for that).
 pub fn on_finer_mesh(mode: &Mode, finer: &Modes) -> OnFinerMesh {
     let same = || {
         finer.modes.iter().filter(|m| {
