@@ -125,13 +125,13 @@ pub const SAME_MODE_TOLERANCE: f64 = 0.05;
 /// analysed one.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum OnFinerMesh {
-    /// A mode of the same part within [`SAME_MODE_TOLERANCE`] grows there
+    /// A mode of the same kind within [`SAME_MODE_TOLERANCE`] grows there
     /// too (its frequency [Hz] and damping ratio): the drive's, as far as
     /// the mesh can tell.
     StillGrows(f64, f64),
-    /// No mode of the same part within the tolerance grows there; the
-    /// nearest such mode (frequency [Hz], damping ratio), if any: the
-    /// growth is the discrete belt's.
+    /// No mode of the same kind within the tolerance grows there; the
+    /// nearest mode of the same part (frequency [Hz], damping ratio), if
+    /// any: the growth is the discrete belt's.
     Settles(Option<(f64, f64)>),
 }
 
@@ -139,18 +139,28 @@ pub enum OnFinerMesh {
 /// analysis of the same drive and speed with more bodies. A continuous
 /// belt's instability does not depend on the mesh; one that a finer mesh
 /// removes comes from the bodies' passage (at 1/P or a combination of two
-/// modes with it) however its frequency relates to 1/P. The modes are
-/// matched by their label's part: a mode two spans share may be labelled
-/// after the other span on the other mesh (the console lists the finer
-/// mesh's growing modes beside the verdict for that).
+/// modes with it) however its frequency relates to 1/P. A mode two spans
+/// share may be labelled after the other span on the other mesh: any
+/// growing mode of the same kind ([`crate::modes::Family`]) within
+/// [`SAME_MODE_TOLERANCE`] counts, so that the verdict errs towards the
+/// drive's; the nearest mode reported where none grows is the one with
+/// the same label.
 pub fn on_finer_mesh(mode: &Mode, finer: &Modes) -> OnFinerMesh {
+    let near = |m: &&Mode| (m.frequency_hz / mode.frequency_hz - 1.0).abs() <= SAME_MODE_TOLERANCE;
     let same = || {
-        finer.modes.iter().filter(|m| {
-            m.part == mode.part
-                && (m.frequency_hz / mode.frequency_hz - 1.0).abs() <= SAME_MODE_TOLERANCE
-        })
+        finer
+            .modes
+            .iter()
+            .filter(near)
+            .filter(|m| m.part == mode.part)
     };
-    if let Some(m) = same()
+    // growing: any mode of the same kind (a span's transverse motion, a
+    // rotation, ...) near it, whichever span its label names
+    if let Some(m) = finer
+        .modes
+        .iter()
+        .filter(near)
+        .filter(|m| m.part.family() == mode.part.family())
         .filter(|m| m.damping_ratio < -ZETA_RESOLUTION)
         .min_by(|a, b| a.damping_ratio.total_cmp(&b.damping_ratio))
     {
@@ -254,15 +264,25 @@ mod tests {
         };
         let finer = modes(&[
             (555.5, 0.0034, Part::SpanTransverse(1)),
-            (554.0, -0.009, Part::SpanTransverse(2)),
+            (554.0, -0.009, Part::PulleyRotation(2)),
             (520.0, -0.009, Part::SpanTransverse(1)),
             (600.0, -0.009, Part::SpanTransverse(1)),
         ]);
-        // another span's growing mode at the same frequency and the same
-        // span's modes 4.4 % and 8.3 % away are other modes
+        // a rotation growing at the same frequency and the same span's
+        // modes 6.2 % and 8.3 % away are other modes
         assert_eq!(
             on_finer_mesh(&grows, &finer),
             OnFinerMesh::Settles(Some((555.5, 0.0034)))
+        );
+        // a transverse mode growing there under another span's label
+        // counts: the pair may have swapped labels
+        let swapped = modes(&[
+            (555.5, 0.0034, Part::SpanTransverse(1)),
+            (556.0, -0.005, Part::SpanTransverse(2)),
+        ]);
+        assert_eq!(
+            on_finer_mesh(&grows, &swapped),
+            OnFinerMesh::StillGrows(556.0, -0.005)
         );
         let also = modes(&[
             (555.5, 0.0034, Part::SpanTransverse(1)),
