@@ -244,7 +244,10 @@ mod tests {
         }
     }
 
-    fn modes(list: &[(f64, f64, Part)]) -> Modes {
+    /// A mode as listed: frequency [Hz], damping ratio, part.
+    type Listed = (f64, f64, Part);
+
+    fn modes(list: &[Listed]) -> Modes {
         Modes {
             modes: list
                 .iter()
@@ -262,46 +265,40 @@ mod tests {
             part: Part::SpanTransverse(1),
             ..mode(554.26, -0.0064)
         };
-        let finer = modes(&[
-            (555.5, 0.0034, Part::SpanTransverse(1)),
-            (554.0, -0.009, Part::PulleyRotation(2)),
-            (520.0, -0.009, Part::SpanTransverse(1)),
-            (600.0, -0.009, Part::SpanTransverse(1)),
-        ]);
-        // a rotation growing at the same frequency and the same span's
-        // modes 6.2 % and 8.3 % away are other modes
-        assert_eq!(
-            on_finer_mesh(&grows, &finer),
-            OnFinerMesh::Settles(Some((555.5, 0.0034)))
-        );
-        // a transverse mode growing there under another span's label
-        // counts: the pair may have swapped labels
-        let swapped = modes(&[
-            (555.5, 0.0034, Part::SpanTransverse(1)),
-            (556.0, -0.005, Part::SpanTransverse(2)),
-        ]);
-        assert_eq!(
-            on_finer_mesh(&grows, &swapped),
-            OnFinerMesh::StillGrows(556.0, -0.005)
-        );
-        let also = modes(&[
-            (555.5, 0.0034, Part::SpanTransverse(1)),
-            (557.0, -0.0051, Part::SpanTransverse(1)),
-        ]);
-        assert_eq!(
-            on_finer_mesh(&grows, &also),
-            OnFinerMesh::StillGrows(557.0, -0.0051)
-        );
-        // within the resolution is not growing
-        let faint = modes(&[(557.0, -0.0029, Part::SpanTransverse(1))]);
-        assert_eq!(
-            on_finer_mesh(&grows, &faint),
-            OnFinerMesh::Settles(Some((557.0, -0.0029)))
-        );
-        assert_eq!(
-            on_finer_mesh(&grows, &modes(&[])),
-            OnFinerMesh::Settles(None)
-        );
+        use Part::{PulleyRotation, SpanTransverse};
+        let damped = (555.5, 0.0034, SpanTransverse(1));
+        let cases: [(&[Listed], OnFinerMesh); 5] = [
+            // a rotation growing at the same frequency and the same span's
+            // modes 6.2 % and 8.3 % away are other modes
+            (
+                &[
+                    damped,
+                    (554.0, -0.009, PulleyRotation(2)),
+                    (520.0, -0.009, SpanTransverse(1)),
+                    (600.0, -0.009, SpanTransverse(1)),
+                ],
+                OnFinerMesh::Settles(Some((555.5, 0.0034))),
+            ),
+            // a transverse mode growing there under another span's label
+            // counts: the pair may have swapped labels
+            (
+                &[damped, (556.0, -0.005, SpanTransverse(2))],
+                OnFinerMesh::StillGrows(556.0, -0.005),
+            ),
+            (
+                &[damped, (557.0, -0.0051, SpanTransverse(1))],
+                OnFinerMesh::StillGrows(557.0, -0.0051),
+            ),
+            // within the resolution is not growing
+            (
+                &[(557.0, -0.0029, SpanTransverse(1))],
+                OnFinerMesh::Settles(Some((557.0, -0.0029))),
+            ),
+            (&[], OnFinerMesh::Settles(None)),
+        ];
+        for (finer, verdict) in cases {
+            assert_eq!(on_finer_mesh(&grows, &modes(finer)), verdict, "{finer:?}");
+        }
         assert!(explain_finer(&grows, OnFinerMesh::Settles(None), 240).contains("240 bodies"));
     }
 
