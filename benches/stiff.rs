@@ -11,6 +11,14 @@
 //! `valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*stiff*integrate*' <bench binary> scaling5pk 600`.
 
 mod common;
+
+#[path = "../examples/common/ssv.rs"]
+#[allow(dead_code)]
+mod ssv;
+
+#[path = "../examples/common/accessory.rs"]
+mod accessory;
+
 use belt_drive::drive::Integrator;
 use belt_drive::model::params::Method;
 use belt_drive::model::system::{NoRecord, Workspace};
@@ -73,6 +81,69 @@ fn kernels(n: usize) {
         f / rhs,
         per(s),
         s / rhs
+    );
+}
+
+/// Kernel costs on an accessory set (`acc4`, `tens`) at crank speed `rpm`
+/// with its loads held (examples/common/accessory.rs), 0.1 s after its
+/// speed ramp: the kernels per body as [`kernels`], the right-hand side with
+/// the energy sums (the energy check's), and what a step of the stiff
+/// method costs in all over the next 10 ms, so that the share the kernels
+/// leave to the rest of the step shows.
+fn kernels_accessory(set: &str, rpm: f64) {
+    let p = accessory::at_rpm(set, rpm, Method::Rosenbrock);
+    let mut d = Drive::new(&p, 0.0).expect("valid drive");
+    let t0 = 0.6;
+    d.advance(t0).expect("runs");
+    let sys = d.system().clone();
+    let n = sys.n_bodies();
+    let y = d.state().to_vec();
+    let mut dy = vec![0.0; y.len()];
+    let mut jac = Jacobian::new(&sys);
+    let mut m = IterationMatrix::new(&sys);
+    let reps = (200_000 / n).max(20);
+    let mut ws = Workspace::new();
+    let rhs = time_per_call(reps, || {
+        sys.rhs(&mut ws, t0, black_box(&y), &mut dy, &mut NoRecord)
+    });
+    let energy = time_per_call(reps, || {
+        black_box(sys.rhs_energy(&mut ws, t0, black_box(&y), &mut dy));
+    });
+    let j = time_per_call(reps, || sys.jacobian(t0, black_box(&y), &mut jac));
+    let h = d.stats().last_step;
+    let f = time_per_call(reps, || {
+        black_box(m.factor(&sys, &jac, h * 0.435_866_521_508_459));
+    });
+    let mut b = dy.clone();
+    let s = time_per_call(reps, || {
+        b.copy_from_slice(&dy);
+        m.solve(&sys, &jac, &mut b);
+    });
+    let before = d.stats();
+    let c0 = cpu_time();
+    for k in 1..=10 {
+        d.advance(t0 + k as f64 * 1e-3).expect("runs");
+    }
+    let cpu = cpu_time() - c0;
+    let after = d.stats();
+    let trials = (after.steps + after.rejected - before.steps - before.rejected) as f64;
+    let evals = (after.rhs_evals - before.rhs_evals) as f64;
+    let per = |x: f64| x * 1e9 / n as f64;
+    // per trial: one Jacobian, one factorization, four solves, the
+    // right-hand sides counted (the first with the energy sums)
+    let kernels = j + f + 4.0 * s + (evals / trials - 1.0) * rhs + energy;
+    let step = cpu / trials;
+    println!(
+        "{set} {rpm} rpm, {n} bodies: ns per body: rhs {:.1}, rhs with energy {:.1}, jacobian {:.1}, factor {:.1}, solve {:.1}; per trial step: kernels {:.0}, all {:.0} ({:.0} % outside the kernels; {:.0} trials)",
+        per(rhs),
+        per(energy),
+        per(j),
+        per(f),
+        per(s),
+        per(kernels),
+        per(step),
+        100.0 * (1.0 - kernels / step),
+        trials
     );
 }
 
@@ -184,6 +255,10 @@ fn main() {
         println!("# stiff-method kernels (5PK drive at t = 0.05 s)");
         for n in [90usize, 150, 600, 1200] {
             kernels(n);
+        }
+        println!("# the same on the accessory sets at 6000 rpm, loads held, 0.1 s after the ramp");
+        for set in ["acc4", "tens"] {
+            kernels_accessory(set, 6000.0);
         }
     }
     let horizon = if quick { 0.2 } else { 2.0 };

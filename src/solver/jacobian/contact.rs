@@ -35,25 +35,25 @@ impl BeltSystem {
             let o = BodyIndex::of(i);
             let b = &mut jac.bodies[i];
             // reset what this evaluation accumulates into or may leave
-            // unset; the entries of pulleys j >= np stay zero from `new`
+            // unset. A pulley's entries are written only where the body
+            // touches it (`touching`), so only the pulleys the body touched
+            // at the last evaluation have entries to clear: the others stay
+            // zero (from `new`), and a body touches one pulley or two of up
+            // to eight (a full reset was a tenth of the Jacobian's time on
+            // the accessory drives).
             b.accel_by_position = Default::default();
             b.accel_by_velocity = Default::default();
             b.accel_by_creep = Vector3::zeros();
             b.creep_rate_by_position = RowVector3::zeros();
             b.creep_rate_by_velocity = RowVector3::zeros();
+            let touched = b.touching;
             b.touching = 0;
-            for j in 0..np {
-                b.accel_by_pulley_speed[j] = Vector3::zeros();
-                b.creep_rate_by_pulley_speed[j] = 0.0;
-                b.pulley_accel_by_position[j] = RowVector3::zeros();
-                b.pulley_accel_by_velocity[j] = RowVector3::zeros();
-                b.pulley_accel_by_creep[j] = 0.0;
-            }
-            for c in &mut jac.impulse[i][..np] {
-                *c = ImpulseColumns::default();
-            }
-            if with_arms {
-                jac.arm_bodies[i] = BodyArmJacobian::default();
+            for j in (0..np).filter(|j| touched & (1 << j) != 0) {
+                b.clear_pulley(j);
+                jac.impulse[i][j] = ImpulseColumns::default();
+                if with_arms {
+                    jac.arm_bodies[i].clear_pulley(j);
+                }
             }
             let x = [y[o.x], y[o.y]];
             let z = y[o.creep];

@@ -184,6 +184,32 @@ pub struct BodyArmJacobian {
     pub(crate) arm_accel_by_creep: [f64; MAX_PULLEYS],
 }
 
+impl BodyJacobian {
+    /// Zeroes the body's entries of pulley j.
+    #[inline(always)]
+    pub(crate) fn clear_pulley(&mut self, j: usize) {
+        self.accel_by_pulley_speed[j] = Vector3::zeros();
+        self.creep_rate_by_pulley_speed[j] = 0.0;
+        self.pulley_accel_by_position[j] = RowVector3::zeros();
+        self.pulley_accel_by_velocity[j] = RowVector3::zeros();
+        self.pulley_accel_by_creep[j] = 0.0;
+    }
+}
+
+impl BodyArmJacobian {
+    /// Zeroes the body's entries of the arm under pulley j.
+    #[inline(always)]
+    pub(crate) fn clear_pulley(&mut self, j: usize) {
+        self.accel_by_arm_angle[j] = Vector3::zeros();
+        self.accel_by_arm_rate[j] = Vector3::zeros();
+        self.creep_rate_by_arm_angle[j] = 0.0;
+        self.creep_rate_by_arm_rate[j] = 0.0;
+        self.arm_accel_by_position[j] = RowVector3::zeros();
+        self.arm_accel_by_velocity[j] = RowVector3::zeros();
+        self.arm_accel_by_creep[j] = 0.0;
+    }
+}
+
 /// Block Jacobian of the whole belt drive.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Jacobian {
