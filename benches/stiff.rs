@@ -52,36 +52,64 @@ fn kernels(n: usize) {
     p.solver.method = Method::Rosenbrock;
     let mut d = Drive::new(&p, 0.0).expect("valid drive");
     d.advance(0.05).expect("runs");
-    let sys = d.system().clone();
-    let y = d.state().to_vec();
-    let mut dy = vec![0.0; y.len()];
-    let mut jac = Jacobian::new(&sys);
-    let mut m = IterationMatrix::new(&sys);
-    let reps = (200_000 / n).max(20);
-    let mut ws = Workspace::new();
-    let rhs = time_per_call(reps, || {
-        sys.rhs(&mut ws, 0.05, black_box(&y), &mut dy, &mut NoRecord)
-    });
-    let j = time_per_call(reps, || sys.jacobian(0.05, black_box(&y), &mut jac));
-    let f = time_per_call(reps, || {
-        black_box(m.factor(&sys, &jac, 1e-5));
-    });
-    let mut b = dy.clone();
-    let s = time_per_call(reps, || {
-        b.copy_from_slice(&dy);
-        m.solve(&sys, &jac, &mut b);
-    });
+    let k = kernel_times(&d, 1e-5);
     let per = |x: f64| x * 1e9 / n as f64;
     println!(
         "n = {n:5}: ns per body: rhs {:.1}, jacobian {:.1} ({:.1} rhs), factor {:.1} ({:.1} rhs), solve {:.1} ({:.1} rhs)",
-        per(rhs),
-        per(j),
-        j / rhs,
-        per(f),
-        f / rhs,
-        per(s),
-        s / rhs
+        per(k.rhs),
+        per(k.jacobian),
+        k.jacobian / k.rhs,
+        per(k.factor),
+        k.factor / k.rhs,
+        per(k.solve),
+        k.solve / k.rhs
     );
+}
+
+/// CPU time per call of each kernel of the stiff method [s].
+struct KernelTimes {
+    rhs: f64,
+    /// The right-hand side with the energy sums (the energy check's).
+    rhs_energy: f64,
+    jacobian: f64,
+    /// The factorization of I - c J.
+    factor: f64,
+    /// One stage solve.
+    solve: f64,
+}
+
+/// [`KernelTimes`] at `d`'s state, with `c` the factorization's h gamma.
+fn kernel_times(d: &Drive, c: f64) -> KernelTimes {
+    let (sys, t) = (d.system(), d.time());
+    let y = d.state();
+    let n = sys.n_bodies();
+    let mut dy = vec![0.0; y.len()];
+    let mut jac = Jacobian::new(sys);
+    let mut m = IterationMatrix::new(sys);
+    let reps = (200_000 / n).max(20);
+    let mut ws = Workspace::new();
+    let rhs = time_per_call(reps, || {
+        sys.rhs(&mut ws, t, black_box(y), &mut dy, &mut NoRecord)
+    });
+    let rhs_energy = time_per_call(reps, || {
+        black_box(sys.rhs_energy(&mut ws, t, black_box(y), &mut dy));
+    });
+    let jacobian = time_per_call(reps, || sys.jacobian(t, black_box(y), &mut jac));
+    let factor = time_per_call(reps, || {
+        black_box(m.factor(sys, &jac, c));
+    });
+    let mut b = dy.clone();
+    let solve = time_per_call(reps, || {
+        b.copy_from_slice(&dy);
+        m.solve(sys, &jac, &mut b);
+    });
+    KernelTimes {
+        rhs,
+        rhs_energy,
+        jacobian,
+        factor,
+        solve,
+    }
 }
 
 /// Kernel costs on an accessory set (`acc4`, `tens`) at crank speed `rpm`
@@ -95,34 +123,13 @@ fn kernels_accessory(set: &str, rpm: f64) {
     let mut d = Drive::new(&p, 0.0).expect("valid drive");
     let t0 = 0.6;
     d.advance(t0).expect("runs");
-    let sys = d.system().clone();
-    let n = sys.n_bodies();
-    let y = d.state().to_vec();
-    let mut dy = vec![0.0; y.len()];
-    let mut jac = Jacobian::new(&sys);
-    let mut m = IterationMatrix::new(&sys);
-    let reps = (200_000 / n).max(20);
-    let mut ws = Workspace::new();
-    let rhs = time_per_call(reps, || {
-        sys.rhs(&mut ws, t0, black_box(&y), &mut dy, &mut NoRecord)
-    });
-    let energy = time_per_call(reps, || {
-        black_box(sys.rhs_energy(&mut ws, t0, black_box(&y), &mut dy));
-    });
-    let j = time_per_call(reps, || sys.jacobian(t0, black_box(&y), &mut jac));
-    let h = d.stats().last_step;
-    let f = time_per_call(reps, || {
-        black_box(m.factor(&sys, &jac, h * 0.435_866_521_508_459));
-    });
-    let mut b = dy.clone();
-    let s = time_per_call(reps, || {
-        b.copy_from_slice(&dy);
-        m.solve(&sys, &jac, &mut b);
-    });
+    let n = d.system().n_bodies();
+    // the factorization at the last step's h gamma (ROS34PW2's gamma)
+    let k = kernel_times(&d, d.stats().last_step * 0.435_866_521_508_459);
     let before = d.stats();
     let c0 = cpu_time();
-    for k in 1..=10 {
-        d.advance(t0 + k as f64 * 1e-3).expect("runs");
+    for i in 1..=10 {
+        d.advance(t0 + i as f64 * 1e-3).expect("runs");
     }
     let cpu = cpu_time() - c0;
     let after = d.stats();
@@ -131,15 +138,16 @@ fn kernels_accessory(set: &str, rpm: f64) {
     let per = |x: f64| x * 1e9 / n as f64;
     // per trial: one Jacobian, one factorization, four solves, the
     // right-hand sides counted (the first with the energy sums)
-    let kernels = j + f + 4.0 * s + (evals / trials - 1.0) * rhs + energy;
+    let kernels =
+        k.jacobian + k.factor + 4.0 * k.solve + (evals / trials - 1.0) * k.rhs + k.rhs_energy;
     let step = cpu / trials;
     println!(
         "{set} {rpm} rpm, {n} bodies: ns per body: rhs {:.1}, rhs with energy {:.1}, jacobian {:.1}, factor {:.1}, solve {:.1}; per trial step: kernels {:.0}, all {:.0} ({:.0} % outside the kernels; {:.0} trials)",
-        per(rhs),
-        per(energy),
-        per(j),
-        per(f),
-        per(s),
+        per(k.rhs),
+        per(k.rhs_energy),
+        per(k.jacobian),
+        per(k.factor),
+        per(k.solve),
         per(kernels),
         per(step),
         100.0 * (1.0 - kernels / step),
