@@ -14,7 +14,7 @@
 //! is; `xtask/src/hygiene.rs` refuses both): git records when the section
 //! was regenerated.
 //!
-//! By default (about 13 minutes of one core) `benches/belt.rs` runs every
+//! By default (about 9 minutes of one core, its build included) `benches/belt.rs` runs every
 //! section but `accuracy` (`rhs default fmu scaling kubas speeds`) and the stiff
 //! method's accuracy on the 5PK drive at relTol 1e-4 and 1e-5 only (`accuracy
 //! --method 2 --drive 5pk --rtol 1e-4,1e-5`, against the RKF45 reference),
