@@ -24,6 +24,7 @@ use belt_drive::model::params::Method;
 use belt_drive::model::system::{NoRecord, Workspace};
 use belt_drive::solver::iteration_matrix::IterationMatrix;
 use belt_drive::solver::jacobian::Jacobian;
+use belt_drive::solver::rosenbrock::GAMMA;
 use belt_drive::{Drive, DriveParams, FrictionLaw};
 use common::{cpu_time, median};
 use std::hint::black_box;
@@ -124,8 +125,8 @@ fn kernels_accessory(set: &str, rpm: f64) {
     let t0 = 0.6;
     d.advance(t0).expect("runs");
     let n = d.system().n_bodies();
-    // the factorization at the last step's h gamma (ROS34PW2's gamma)
-    let k = kernel_times(&d, d.stats().last_step * 0.435_866_521_508_459);
+    // the factorization at the last step's h gamma
+    let k = kernel_times(&d, d.stats().last_step * GAMMA);
     let before = d.stats();
     let c0 = cpu_time();
     for i in 1..=10 {

@@ -22,7 +22,8 @@ use crate::solver::knobs::TUNING;
 use crate::solver::step_control::{EmbeddedMethod, StepControl, StepFailure, Trial};
 
 pub use crate::solver::stiff_system::{EnergyBalance, StiffSystem};
-use tableau::{GAMMA, S, T};
+pub use tableau::GAMMA;
+use tableau::{S, T};
 
 mod tableau;
 

@@ -3,8 +3,9 @@
 //! ODEs II, IV.7), computed at compile time.
 
 pub(super) const S: usize = 4;
-/// ROS34PW2 in the notation of Rang & Angermann (2005), Table 2.
-pub(super) const GAMMA: f64 = 4.358_665_215_084_59e-1;
+/// ROS34PW2 in the notation of Rang & Angermann (2005), Table 2; gamma is
+/// also the diagonal of the iteration matrix, I - h gamma J.
+pub const GAMMA: f64 = 4.358_665_215_084_59e-1;
 const ALPHA: [[f64; S]; S] = [
     [0.0; 4],
     [8.717_330_430_169_18e-1, 0.0, 0.0, 0.0],
